@@ -1,0 +1,49 @@
+// One frame through the estimator, exactly as gvsd's processing thread does
+// it: sanity checks on the frame and its timing, then the estimator. `gvs
+// replay` uses the same class, so replayed figures are the daemon's figures.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "gvs/dsp/estimate.hpp"
+#include "gvs/dsp/estimator.hpp"
+#include "gvs/dsp/frame.hpp"
+
+namespace gvs::daemon {
+
+/// Why frames got no estimate before reaching the estimator.
+struct FrameRejectCounters {
+  std::uint64_t wrong_size = 0;
+  std::uint64_t bad_exposure = 0;
+  std::uint64_t time_backwards = 0;
+  std::uint64_t time_gap = 0;  ///< gap long enough to forget history (not a reject)
+};
+
+struct FrameProcessorConfig {
+  dsp::EstimatorConfig estimator;
+  double max_exposure_us = 100000.0;  ///< longer is treated as a broken frame
+  double max_gap_s = 0.5;             ///< a longer gap resets pair history
+};
+
+class FrameProcessor {
+ public:
+  /// Builds the estimator (may throw std::invalid_argument naming the method).
+  explicit FrameProcessor(const FrameProcessorConfig& config);
+
+  /// Never throws; no allocation after the first frame of the configured size.
+  dsp::VelocityEstimate process(const dsp::FrameView& frame);
+  void reset();
+
+  [[nodiscard]] const FrameRejectCounters& rejects() const { return rejects_; }
+  [[nodiscard]] const FrameProcessorConfig& config() const { return config_; }
+
+ private:
+  FrameProcessorConfig config_;
+  std::unique_ptr<dsp::VelocityEstimator> estimator_;
+  FrameRejectCounters rejects_;
+  bool have_previous_ = false;
+  std::int64_t previous_t_ns_ = 0;
+};
+
+}  // namespace gvs::daemon

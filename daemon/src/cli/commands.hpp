@@ -1,0 +1,14 @@
+// The subcommands of the `gvs` tool; each file cmd_<name>.cpp registers one.
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+namespace gvs::cli {
+
+void register_sim(CLI::App& app);
+void register_replay(CLI::App& app);
+void register_eval(CLI::App& app);
+
+}  // namespace gvs::cli

@@ -1,0 +1,24 @@
+// gvs: the offline and bench tool (simulate, replay, evaluate, ...).
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate)"};
+  app.require_subcommand(1);
+  gvs::cli::register_sim(app);
+  gvs::cli::register_replay(app);
+  gvs::cli::register_eval(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "gvs: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

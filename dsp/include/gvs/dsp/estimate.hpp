@@ -1,0 +1,49 @@
+// The estimator's output for one frame, in ISO 8855 vehicle axes.
+#pragma once
+
+#include <cstdint>
+
+namespace gvs::dsp {
+
+/// Velocity of the sensor over the ground, as estimated from one frame (and,
+/// for pair methods, the one before it). Fields without their `has_` flag are
+/// meaningless and must not be used.
+struct VelocityEstimate {
+  std::int64_t index = 0;
+  std::int64_t t_ns = 0;  ///< time the estimate refers to: the frame's mid-exposure
+
+  bool has_speed = false;
+  bool has_direction = false;
+  bool has_yaw_rate = false;
+
+  double vx_mps = 0.0;  ///< forward
+  double vy_mps = 0.0;  ///< left
+  double speed_mps = 0.0;
+  double direction_deg = 0.0;  ///< atan2(vy, vx), (-180, 180]
+  double yaw_rate_dps = 0.0;   ///< CCW from above
+
+  double quality = 0.0;  ///< [0, 1]; 0 = nothing measured
+  /// Short lowercase word: the estimator that produced the row, or why there
+  /// is no estimate ("dark", "saturated", "no-texture", ...). Always a string
+  /// literal with static storage, so copying an estimate never allocates.
+  const char* method = "none";
+
+  /// vx, vy are known when speed and direction are, or when the car stands.
+  [[nodiscard]] bool has_velocity_xy() const {
+    return has_speed && (has_direction || speed_mps < kStandstillMps);
+  }
+
+  static constexpr double kStandstillMps = 0.01;
+};
+
+/// An estimate that says "nothing measured, because `reason`".
+inline VelocityEstimate no_estimate(std::int64_t index, std::int64_t t_ns, const char* reason) {
+  VelocityEstimate e;
+  e.index = index;
+  e.t_ns = t_ns;
+  e.quality = 0.0;
+  e.method = reason;
+  return e;
+}
+
+}  // namespace gvs::dsp

@@ -1,0 +1,218 @@
+// The dataset reader and writer: round trip, and a clear error naming the
+// file and line or key for every kind of bad dataset.
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "gvs/drivers/dataset.hpp"
+#include "gvs/drivers/estimates_csv.hpp"
+
+namespace fs = std::filesystem;
+using gvs::drivers::CameraInfo;
+using gvs::drivers::DatasetError;
+using gvs::drivers::DatasetReader;
+using gvs::drivers::DatasetWriter;
+using gvs::drivers::FrameRecord;
+using gvs::drivers::TruthRecord;
+
+namespace {
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("gvs-dataset-test-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+cv::Mat noise_image(int w, int h, unsigned seed) {
+  cv::Mat m(h, w, CV_8UC1);
+  cv::theRNG().state = seed;
+  cv::randu(m, 0, 255);
+  return m;
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+  std::ofstream out(file);
+  out << text;
+}
+
+/// A small valid dataset written by hand, the way a third-party tool would.
+fs::path handmade_dataset(const std::string& name) {
+  const fs::path dir = fresh_dir(name);
+  fs::create_directories(dir / "frames");
+  write_text(dir / "camera.json",
+             R"({"format": "gvs-dataset/1", "width": 64, "height": 48, "mm_per_px": 0.2, "mount_yaw_deg": 90,
+                 "extra_key": "ignored"})");
+  cv::imwrite((dir / "frames/a.png").string(), noise_image(64, 48, 1));
+  cv::Mat colour(48, 64, CV_8UC3, cv::Scalar(10, 200, 30));
+  cv::imwrite((dir / "frames/b.png").string(), colour);
+  write_text(dir / "frames.csv",
+             "index,file,t_ns,exposure_us,pulses\n"
+             "0,frames/a.png,1000,2500.5,\n"
+             "3,frames/b.png,50000000,40,0:10|30:10\n");
+  return dir;
+}
+
+void expect_error(const fs::path& dir, const std::string& must_contain) {
+  try {
+    DatasetReader reader(dir);
+    for (std::size_t i = 0; i < reader.frames().size(); ++i) (void)reader.load_gray(i);
+    FAIL() << "no error; expected one containing '" << must_contain << "'";
+  } catch (const DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find(must_contain), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(Dataset, WriterAndReaderRoundTrip) {
+  const fs::path dir = fresh_dir("roundtrip");
+  CameraInfo cam;
+  cam.geometry = {96, 64, 0.1, 12.5};
+  cam.description = "round trip";
+  gvs::dsp::ExposurePlan pulsed = gvs::drivers::parse_pulses("0:20|400:20", 500.0);
+  {
+    DatasetWriter w(dir, cam, true);
+    for (int i = 0; i < 3; ++i) {
+      FrameRecord r;
+      r.index = i == 2 ? 5 : i;  // a gap: frame 2..4 dropped
+      r.t_ns = 16666667LL * r.index;
+      r.exposure.exposure_us = 3000.0;
+      if (i == 1) r.exposure = pulsed;
+      w.write_frame(noise_image(96, 64, static_cast<unsigned>(i + 1)), r);
+      TruthRecord t;
+      t.index = r.index;
+      t.t_ns = r.t_ns + 1500000;
+      t.vx_mps = 10.0 + i;
+      t.vy_mps = -1.25;
+      t.speed_mps = std::hypot(t.vx_mps, t.vy_mps);
+      t.direction_deg = std::atan2(t.vy_mps, t.vx_mps) * 180.0 / M_PI;
+      t.yaw_rate_dps = 3.5;
+      w.write_truth(t);
+    }
+  }
+  const DatasetReader r(dir);
+  EXPECT_EQ(r.camera().geometry.width_px, 96);
+  EXPECT_EQ(r.camera().geometry.height_px, 64);
+  EXPECT_DOUBLE_EQ(r.camera().geometry.mount_yaw_deg, 12.5);
+  ASSERT_EQ(r.frames().size(), 3U);
+  EXPECT_EQ(r.frames()[2].index, 5);
+  EXPECT_EQ(r.frames()[1].exposure.pulse_count, 2U);
+  EXPECT_DOUBLE_EQ(r.frames()[1].exposure.pulses[1].start_us, 400.0);
+  EXPECT_DOUBLE_EQ(r.frames()[1].exposure.lit_time_us(), 40.0);
+  const cv::Mat img = r.load_gray(0);
+  EXPECT_EQ(cv::norm(img, noise_image(96, 64, 1), cv::NORM_INF), 0.0);
+  ASSERT_TRUE(r.has_truth());
+  EXPECT_NEAR(r.truth()[2].vx_mps, 12.0, 1e-6);
+  EXPECT_NEAR(*r.truth()[0].direction_deg, std::atan2(-1.25, 10.0) * 180.0 / M_PI, 1e-5);
+  EXPECT_NEAR(r.truth()[1].yaw_rate_dps, 3.5, 1e-9);
+}
+
+TEST(Dataset, ReadsThirdPartyDatasetWithColourPngGapsAndPulses) {
+  const fs::path dir = handmade_dataset("handmade");
+  const DatasetReader r(dir);
+  EXPECT_DOUBLE_EQ(r.camera().geometry.mm_per_px, 0.2);
+  EXPECT_FALSE(r.has_truth());
+  ASSERT_EQ(r.frames().size(), 2U);
+  EXPECT_DOUBLE_EQ(r.frames()[0].exposure.exposure_us, 2500.5);
+  EXPECT_EQ(r.frames()[0].exposure.pulse_count, 0U);
+  EXPECT_DOUBLE_EQ(r.frames()[1].exposure.light_centre_us(), 20.0);  // pulses centred at 5 and 35 us
+  const cv::Mat colour_as_gray = r.load_gray(1);
+  EXPECT_EQ(colour_as_gray.type(), CV_8UC1);
+  EXPECT_NEAR(colour_as_gray.at<unsigned char>(0, 0), 0.299 * 30 + 0.587 * 200 + 0.114 * 10, 1.0);
+}
+
+TEST(Dataset, MissingCameraKeyIsNamed) {
+  const fs::path dir = handmade_dataset("nokey");
+  write_text(dir / "camera.json", R"({"format": "gvs-dataset/1", "width": 64, "height": 48})");
+  expect_error(dir, "camera.json: missing required key 'mm_per_px'");
+}
+
+TEST(Dataset, TimeGoingBackwardsNamesTheLine) {
+  const fs::path dir = handmade_dataset("backwards");
+  write_text(dir / "frames.csv",
+             "index,file,t_ns,exposure_us,pulses\n0,frames/a.png,1000,3000,\n1,frames/a.png,999,3000,\n");
+  expect_error(dir, "frames.csv:3: t_ns 999 goes backwards");
+}
+
+TEST(Dataset, ZeroAndNegativeExposureAreRefused) {
+  const fs::path dir = handmade_dataset("exposure");
+  write_text(dir / "frames.csv", "index,file,t_ns,exposure_us,pulses\n0,frames/a.png,1000,0,\n");
+  expect_error(dir, "frames.csv:2: exposure_us '0' must be a number > 0");
+  write_text(dir / "frames.csv", "index,file,t_ns,exposure_us,pulses\n0,frames/a.png,1000,-5,\n");
+  expect_error(dir, "frames.csv:2: exposure_us '-5'");
+}
+
+TEST(Dataset, BadPulsesAreRefused) {
+  const fs::path dir = handmade_dataset("pulses");
+  write_text(dir / "frames.csv", "index,file,t_ns,exposure_us,pulses\n0,frames/a.png,1000,100,0:10|5:10\n");
+  expect_error(dir, "frames.csv:2: pulses: pulses overlap");
+  write_text(dir / "frames.csv", "index,file,t_ns,exposure_us,pulses\n0,frames/a.png,1000,100,abc\n");
+  expect_error(dir, "frames.csv:2: pulses:");
+}
+
+TEST(Dataset, TruncatedPngIsNamed) {
+  const fs::path dir = handmade_dataset("truncated");
+  const fs::path png = dir / "frames/a.png";
+  const auto size = fs::file_size(png);
+  fs::resize_file(png, size / 3);
+  expect_error(dir, "frames/a.png: unreadable or truncated image");
+}
+
+TEST(Dataset, MissingImageAndWrongSizeAreNamed) {
+  fs::path dir = handmade_dataset("missingpng");
+  fs::remove(dir / "frames/b.png");
+  expect_error(dir, "frames/b.png: missing");
+  dir = handmade_dataset("wrongsize");
+  cv::imwrite((dir / "frames/a.png").string(), noise_image(32, 48, 3));
+  expect_error(dir, "is 32x48 px but camera.json says 64x48");
+}
+
+TEST(Dataset, MissingFolderAndHeaderColumnAreNamed) {
+  expect_error(fs::temp_directory_path() / "gvs-no-such-dataset", "not a folder");
+  const fs::path dir = handmade_dataset("header");
+  write_text(dir / "frames.csv", "index,file,exposure_us\n0,frames/a.png,3000\n");
+  expect_error(dir, "frames.csv:1: header lacks the column 't_ns'");
+}
+
+TEST(EstimatesCsv, RoundTripKeepsAbsentFieldsAbsent) {
+  const fs::path dir = fresh_dir("estimates");
+  gvs::dsp::VelocityEstimate full;
+  full.index = 7;
+  full.t_ns = 123;
+  full.has_speed = full.has_direction = full.has_yaw_rate = true;
+  full.speed_mps = 10.0;
+  full.direction_deg = 30.0;
+  full.vx_mps = 10.0 * std::cos(M_PI / 6);
+  full.vy_mps = 5.0;
+  full.yaw_rate_dps = -4.5;
+  full.quality = 0.75;
+  full.method = "pair";
+  gvs::dsp::VelocityEstimate direction_only;
+  direction_only.index = 8;
+  direction_only.has_direction = true;
+  direction_only.direction_deg = -3.25;
+  direction_only.quality = 0.5;
+  direction_only.method = "blur";
+  {
+    gvs::drivers::EstimatesCsvWriter w(dir / "e.csv");
+    w.write(full);
+    w.write(direction_only);
+    w.write(gvs::dsp::no_estimate(9, 456, "dark"));
+  }
+  const auto rows = gvs::drivers::read_estimates_csv(dir / "e.csv");
+  ASSERT_EQ(rows.size(), 3U);
+  EXPECT_TRUE(rows[0].estimate.has_speed && rows[0].estimate.has_direction && rows[0].estimate.has_yaw_rate);
+  EXPECT_NEAR(rows[0].estimate.direction_deg, 30.0, 1e-4);
+  EXPECT_EQ(rows[0].method, "pair");
+  EXPECT_FALSE(rows[1].estimate.has_speed);
+  EXPECT_TRUE(rows[1].estimate.has_direction);
+  EXPECT_FALSE(rows[2].estimate.has_speed || rows[2].estimate.has_direction || rows[2].estimate.has_yaw_rate);
+  EXPECT_EQ(rows[2].estimate.quality, 0.0);
+  EXPECT_EQ(rows[2].method, "dark");
+  EXPECT_EQ(gvs::drivers::format_estimate_row(gvs::dsp::no_estimate(9, 456, "dark")), "9,456,,,,,,0.000,dark");
+}
