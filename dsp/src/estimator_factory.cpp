@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include "gvs/dsp/estimator.hpp"
+#include "gvs/dsp/gvs_estimator.hpp"
+#include "gvs/dsp/thesis.hpp"
 
 namespace gvs::dsp {
 
@@ -19,6 +21,11 @@ struct Entry {
 // ENTRIES (one line each; keep alphabetical within a family)
 constexpr Entry kEstimators[] = {
     {"none", nullptr},
+    {"gvs", &make_gvs_estimator},
+    {"thesis", &make_thesis_estimator},
+    {"thesis-fft", &make_thesis_fft_estimator},
+    {"thesis-laplacian", &make_thesis_laplacian_estimator},
+    {"thesis-orb", &make_thesis_orb_estimator},
 };
 
 }  // namespace

@@ -32,7 +32,7 @@ struct EvalOptions {
 /// Where gvs_plot.py is: $GVS_PLOT_SCRIPT, the source tree, or the installed copy.
 fs::path plot_script() {
   if (const char* env = std::getenv("GVS_PLOT_SCRIPT")) return env;
-  for (const fs::path p : {fs::path(GVS_PLOT_SCRIPT_SOURCE), fs::path(GVS_PLOT_SCRIPT_INSTALLED)}) {
+  for (const fs::path& p : {fs::path(GVS_PLOT_SCRIPT_SOURCE), fs::path(GVS_PLOT_SCRIPT_INSTALLED)}) {
     if (fs::exists(p)) return p;
   }
   throw std::runtime_error(std::string("gvs_plot.py not found at ") + GVS_PLOT_SCRIPT_SOURCE + " or " +

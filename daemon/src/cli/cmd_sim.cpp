@@ -7,8 +7,10 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "gvs/daemon/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
+#include "gvs/dsp/exposure_control.hpp"
 
 namespace gvs::cli {
 
@@ -18,6 +20,8 @@ struct SimOptions {
   drivers::SimulatorConfig config;
   std::string out;
   std::string light = "normal";
+  std::string exposure_mode = "fixed";
+  std::string loop_method = "gvs";
 };
 
 void run_sim(const SimOptions& o) {
@@ -31,15 +35,42 @@ void run_sim(const SimOptions& o) {
   camera.geometry = config.camera;
   camera.description = "gvs sim --scenario " + config.scenario + " --seed " + std::to_string(config.seed);
   drivers::DatasetWriter writer(o.out, camera, /*with_truth=*/true);
+
+  // Closed loop: the estimator measures each frame as gvsd would, and the
+  // exposure controller plans the next frame's exposure from that estimate.
+  dsp::ExposureMode mode = dsp::ExposureMode::fixed;
+  dsp::parse_exposure_mode(o.exposure_mode.c_str(), mode);
+  std::unique_ptr<daemon::FrameProcessor> loop;
+  dsp::ExposureLimits limits;
+  if (mode != dsp::ExposureMode::fixed) {
+    daemon::FrameProcessorConfig pc;
+    pc.estimator.method = o.loop_method;
+    pc.estimator.camera = config.camera;
+    loop = std::make_unique<daemon::FrameProcessor>(pc);
+    limits.mm_per_px = config.camera.mm_per_px;
+    limits.frame_period_us = 1e6 / config.fps;
+    limits.max_exposure_us = config.exposure_us;
+  }
+
   drivers::SimFrame frame;
   std::size_t count = 0;
   while (sim.next(frame)) {
     writer.write_frame(frame.gray, frame.record);
     writer.write_truth(frame.truth);
     ++count;
+    if (loop) {
+      dsp::FrameView view;
+      view.gray = frame.gray;
+      view.index = frame.record.index;
+      view.t_ns = frame.record.t_ns;
+      view.exposure = frame.record.exposure;
+      const dsp::VelocityEstimate e = loop->process(view);
+      sim.set_exposure(dsp::next_exposure(e, frame.record.exposure, mode, limits));
+    }
   }
   writer.close();
-  std::printf("wrote %zu frames of scenario '%s' to %s\n", count, config.scenario.c_str(), o.out.c_str());
+  std::printf("wrote %zu frames of scenario '%s' (exposure %s) to %s\n", count, config.scenario.c_str(),
+              o.exposure_mode.c_str(), o.out.c_str());
 }
 
 }  // namespace
@@ -55,9 +86,15 @@ void register_sim(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", opts->config.seed, "Texture and noise seed")->capture_default_str();
   cmd->add_option("--fps", opts->config.fps, "Frame rate")->check(CLI::Range(1.0, 1000.0))->capture_default_str();
-  cmd->add_option("--exposure-us", opts->config.exposure_us, "Continuous exposure, microseconds")
+  cmd->add_option("--exposure-us", opts->config.exposure_us, "Continuous exposure, microseconds (with --exposure adaptive or double-pulse: the longest)")
       ->check(CLI::Range(1.0, 100000.0))
       ->capture_default_str();
+  cmd->add_option("--exposure", opts->exposure_mode,
+                  "Exposure control: fixed (--exposure-us), adaptive (one strobe keeping the streak 10-80 px) or "
+                  "double-pulse, closed loop through the estimator")
+      ->check(CLI::IsMember({"fixed", "adaptive", "double-pulse"}))
+      ->capture_default_str();
+  cmd->add_option("--loop-method", opts->loop_method, "Estimator closing the exposure loop")->capture_default_str();
   cmd->add_option("--light", opts->light, "Scene brightness: normal, under (mean grey ~10), over (~15 % saturated)")
       ->check(CLI::IsMember({"normal", "under", "over"}))
       ->capture_default_str();

@@ -10,5 +10,6 @@ namespace gvs::cli {
 void register_sim(CLI::App& app);
 void register_replay(CLI::App& app);
 void register_eval(CLI::App& app);
+void register_monitor(CLI::App& app);
 
 }  // namespace gvs::cli

@@ -7,11 +7,12 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate)"};
+  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor)"};
   app.require_subcommand(1);
   gvs::cli::register_sim(app);
   gvs::cli::register_replay(app);
   gvs::cli::register_eval(app);
+  gvs::cli::register_monitor(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -11,6 +11,9 @@
 #include <opencv2/core/mat.hpp>
 
 #include "gvs/drivers/dataset.hpp"
+#include "gvs/drivers/sim/render_stats.hpp"
+#include "gvs/drivers/sim/scenario.hpp"
+#include "gvs/drivers/sim/sensor_model.hpp"
 #include "gvs/dsp/frame.hpp"
 
 namespace gvs::drivers {
@@ -28,6 +31,12 @@ struct SimulatorConfig {
   LightLevel light = LightLevel::normal;
   dsp::CameraGeometry camera;  ///< 512x384 px, 0.1 mm/px, mount yaw 0
   bool loop = false;           ///< start the scenario again when it ends (daemon)
+  std::uint64_t sensor_seed = 7;  ///< fixed-pattern noise of "the" sensor (not the scene)
+  sim::SensorModel sensor;        ///< sensor and light numbers (docs/simulator.md)
+  /// Blur length (px) from which the texture raster along the motion is
+  /// sampled at the pixel pitch instead of half of it (the path integral
+  /// smooths along the motion); <= 0: always half (docs/simulator.md).
+  double coarse_raster_min_blur_px = 32.0;
 };
 
 /// One rendered frame with its record and truth.
@@ -45,6 +54,9 @@ class Simulator {
   /// Throws std::invalid_argument naming the scenario (and the known ones) or
   /// the out-of-range setting.
   explicit Simulator(const SimulatorConfig& config);
+  /// Drives a custom scenario (e.g. sim::constant_motion_scenario(vx, vy));
+  /// config.scenario is ignored (config() reports the scenario's name).
+  Simulator(const SimulatorConfig& config, sim::Scenario scenario);
   ~Simulator();
   Simulator(const Simulator&) = delete;
   Simulator& operator=(const Simulator&) = delete;
@@ -56,7 +68,24 @@ class Simulator {
   bool next(SimFrame& out);
 
   /// Exposure for the frames from the next one on (closed-loop exposure control).
+  /// Photons follow the lit time (pulses with the LED overdriven); the gain
+  /// follows like an auto-gain, within SensorModel::max_gain_ratio of the run's
+  /// gain, so the mean grey stays near its target. Throws
+  /// std::invalid_argument for an impossible plan (exposure <= 0 or longer
+  /// than the frame period, pulses outside the exposure, overlapping or
+  /// unsorted, or more than kMaxPulses).
   void set_exposure(const dsp::ExposurePlan& plan);
+  [[nodiscard]] const dsp::ExposurePlan& exposure() const;
+
+  /// Renders frame `index` with `plan` without advancing the run (random
+  /// access, e.g. the same instant with different exposures).
+  void render(std::int64_t index, const dsp::ExposurePlan& plan, SimFrame& out);
+
+  [[nodiscard]] const sim::Trajectory& trajectory() const;
+  /// Gain set for the run (DN per electron at the configured exposure).
+  [[nodiscard]] double run_gain_dn_per_e() const;
+  /// Cost breakdown of the last rendered frame.
+  [[nodiscard]] const sim::RenderStats& last_render_stats() const;
 
   [[nodiscard]] const SimulatorConfig& config() const;
   [[nodiscard]] std::size_t frame_count() const;  ///< frames in one pass of the run

@@ -14,8 +14,13 @@ namespace gvs::dsp::thesis {
 
 struct FftConfig {
   int column_offset_px = 75;     ///< thesis Fig. 4.27: "point of analysis ... 75 px from the center"
-  double high_pass_radius = 4.0;  ///< thesis Fig. A.5: ideal_high_pass_filter(magI, 4)
-  double low_pass_radius = 5.0;   ///< thesis Fig. A.5: ideal_low_pass_filter(magI, 5)
+  /// High-pass cut-off on the magnitude image, DFT bins (thesis Fig. 4.23: 0.5).
+  double high_pass_radius = 0.5;
+  /// Low-pass cut-off, infinity norm, DFT bins (thesis eq. 4.23, Fig. 4.25: 15).
+  /// The thesis's listing (Fig. A.5) passes 4 and 5 instead; read as bins
+  /// they keep a single ring that fails beyond +-5 deg on our synthetic
+  /// frames (-10 deg read as +49.6 deg), so the text's values are used.
+  double low_pass_radius = 15.0;
   int mask_radius_px = 100;      ///< thesis Fig. A.5: circle of radius 100 around the centre
 };
 
@@ -52,7 +57,7 @@ class FftOrientation {
   cv::Mat spectrum_;   ///< CV_32FC2, DFT of the frame
   cv::Mat planes_[2];  ///< real, imaginary
   cv::Mat magnitude_;  ///< CV_32F, log(1 + |F|), shifted (DC at the centre)
-  cv::Mat band_;       ///< CV_32F, 1 where high_pass_radius < |k| <= low_pass_radius (shifted)
+  cv::Mat band_;       ///< CV_32F, 1 where |k| > high_pass_radius and ||k||_inf < low_pass_radius
   cv::Mat mag_spectrum_;
   cv::Mat filtered_;   ///< CV_32F, band-filtered magnitude image, shifted
 };

@@ -44,7 +44,7 @@ LaplacianSpeed invert_laplacian_model(double lap_std, std::span<const LaplacianS
 /// command that produced it). Empty when not fitted yet.
 std::span<const LaplacianSegment> fitted_laplacian_model();
 
-/// Morphology (erode then dilate, cross element), Laplacian, standard
+/// Morphological closing (cross element), Laplacian, standard
 /// deviation. Buffers are kept between calls.
 class LaplacianBlur {
  public:

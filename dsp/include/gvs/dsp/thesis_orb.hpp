@@ -14,9 +14,13 @@ namespace gvs::dsp::thesis {
 
 struct OrbConfig {
   int max_features = 500;  ///< cv::ORB nfeatures (thesis MAX_FEATURES; OpenCV's default)
-  int min_matches = 4;     ///< fewer cross-checked matches: no measurement
+  /// Thesis Fig. A.3 sorts the matches by Hamming distance and keeps the best
+  /// GOOD_MATCH_PERCENT of them. The thesis does not print the value; 0.15 is
+  /// the one of the OpenCV alignment example its listing follows.
+  double good_match_fraction = 0.15;
+  int min_matches = 4;  ///< fewer good matches: no measurement
   /// Matches at which quality saturates (quality = R * min(1, n / this)).
-  int matches_for_full_quality = 50;
+  int matches_for_full_quality = 30;
 };
 
 /// Texture displacement from the previous to the current frame, in pixels.

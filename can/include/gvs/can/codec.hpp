@@ -1,0 +1,150 @@
+// Packing and unpacking of the gvs messages (physical values <-> frames),
+// with E2E protection. No allocation, no exceptions after construction.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "gvs/can/frame.hpp"
+#include "gvs/can/signals.hpp"
+#include "gvs/dsp/estimate.hpp"
+
+namespace gvs::can {
+
+/// GVS_Velocity. A value whose *_valid flag is false is sent as 0 and must be ignored.
+struct VelocityMsg {
+  bool valid = false;  ///< GVS_Valid: speed and direction both valid
+  bool speed_valid = false;
+  bool direction_valid = false;
+  bool yaw_rate_valid = false;
+  double speed_mps = 0.0;
+  double direction_deg = 0.0;  ///< ISO 8855: atan2(vy, vx), 0 = straight ahead, + = to the left
+  double yaw_rate_dps = 0.0;   ///< ISO 8855: + = counter-clockwise seen from above
+  double quality_pct = 0.0;    ///< estimator quality 0..100 %
+};
+
+/// GVS_VelocityXY. Vx, Vy are 0 when !valid.
+struct VelocityXyMsg {
+  bool valid = false;
+  double vx_mps = 0.0;  ///< vehicle x, forward
+  double vy_mps = 0.0;  ///< vehicle y, left
+  std::uint32_t age_ms = 65535;  ///< age of the estimate at send time; 65535 = none / >= 65.535 s
+};
+
+/// Fault bits of GVS_Status (bit k = DBC signal at start bit 16 + k).
+enum FaultBit : std::uint16_t {
+  kFaultCamera = 1u << 0,              ///< no frames from the camera, or a source error
+  kFaultEstimateStale = 1u << 1,       ///< newest estimate older than the stale limit
+  kFaultRingOverrun = 1u << 2,         ///< the frame ring overflowed since the last status
+  kFaultDeadlineMiss = 1u << 3,        ///< the CAN sender woke up late since the last status
+  kFaultCanBusOff = 1u << 4,           ///< controller is (or was, since the last status) bus-off
+  kFaultCanErrorPassive = 1u << 5,     ///< controller error-passive
+  kFaultCanController = 1u << 6,       ///< controller problem (overflow, warning level)
+  kFaultCanInterfaceDown = 1u << 7,    ///< interface was down/removed since the last status
+  kFaultCanSendError = 1u << 8,        ///< a send failed (ENOBUFS, EAGAIN, ...) since the last status
+  kFaultLight = 1u << 9,               ///< LED ring / strobe fault
+  kFaultNoRealtime = 1u << 10,         ///< running without real-time scheduling (desk mode)
+};
+
+struct StatusMsg {
+  SensorState state = SensorState::Init;
+  std::uint16_t faults = 0;           ///< FaultBit mask
+  std::uint8_t dropped_frames = 0;    ///< running count modulo 256
+  std::uint8_t ring_overruns = 0;     ///< running count modulo 256
+  std::uint8_t can_send_errors = 0;   ///< running count modulo 256
+  std::uint8_t method = 0;            ///< method_code() of the estimator
+};
+
+struct TimingMsg {
+  std::uint32_t exposure_us = 0;          ///< saturates at 65535
+  std::uint32_t processing_time_us = 0;   ///< saturates at 65535
+  std::uint8_t late_wakeups = 0;          ///< running count modulo 256
+};
+
+/// The CAN IDs of the messages for one base ID.
+struct MessageIds {
+  std::uint32_t base = kDefaultBaseId;
+
+  [[nodiscard]] constexpr std::uint32_t id(MessageKind kind) const {
+    return base + message_spec(kind).id_offset;
+  }
+  /// The message kind of a standard CAN ID, if it is one of ours.
+  [[nodiscard]] std::optional<MessageKind> kind_of(std::uint32_t can_id) const noexcept;
+};
+
+/// Throws std::invalid_argument (saying what to do) if the base ID leaves no
+/// room for the four standard 11-bit IDs base..base+3.
+void validate_base_id(std::uint32_t base_id);
+
+// Pure packing: frame with E2E header (counter, CRC) from physical values.
+CanFrame encode_velocity(const VelocityMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
+CanFrame encode_velocity_xy(const VelocityXyMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
+CanFrame encode_status(const StatusMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
+CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
+
+/// The two velocity messages for the newest estimate (or none), `now_ns` on
+/// the estimate's clock. An estimate older than `stale_after_ms` (or from the
+/// future by more than that) is sent with every Valid bit 0 and values 0;
+/// GVS_Age still says how old it is. Quantities out of the DBC range are
+/// flagged invalid, never clamped and passed off as valid.
+struct VelocityPair {
+  VelocityMsg velocity;
+  VelocityXyMsg xy;
+};
+VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* estimate, std::int64_t now_ns,
+                                    std::int64_t stale_after_ms) noexcept;
+
+struct EncoderConfig {
+  std::uint32_t base_id = kDefaultBaseId;
+  std::int64_t stale_after_ms = 100;  ///< older estimates are sent with Valid = 0
+};
+
+/// Keeps one alive counter per message; the CAN sender's only codec object.
+class Encoder {
+ public:
+  /// Throws std::invalid_argument for a bad base ID or stale limit.
+  explicit Encoder(const EncoderConfig& config);
+
+  [[nodiscard]] const MessageIds& ids() const { return ids_; }
+  [[nodiscard]] const EncoderConfig& config() const { return config_; }
+
+  CanFrame velocity(const VelocityMsg& m) noexcept;
+  CanFrame velocity_xy(const VelocityXyMsg& m) noexcept;
+  CanFrame status(const StatusMsg& m) noexcept;
+  CanFrame timing(const TimingMsg& m) noexcept;
+
+  /// Both 20 ms frames for the newest estimate (nullptr = none yet).
+  void estimate_frames(const dsp::VelocityEstimate* estimate, std::int64_t now_ns, CanFrame& velocity_out,
+                       CanFrame& xy_out) noexcept;
+
+ private:
+  std::uint8_t next_counter(MessageKind kind) noexcept;
+
+  EncoderConfig config_;
+  MessageIds ids_;
+  std::uint8_t counters_[kMessageKindCount] = {};
+};
+
+// --- Decoding ------------------------------------------------------------------
+
+enum class DecodeStatus : std::uint8_t {
+  Ok,
+  NotOurs,    ///< extended, remote, error frame or an ID that is not a gvs message
+  BadLength,  ///< a gvs ID with DLC != 8
+  BadCrc,     ///< a gvs ID whose byte 0 does not match the CRC (values still decoded)
+};
+
+struct DecodedFrame {
+  DecodeStatus status = DecodeStatus::NotOurs;
+  MessageKind kind = MessageKind::Velocity;  ///< meaningful unless NotOurs
+  std::uint8_t counter = 0;
+  VelocityMsg velocity;  ///< filled for kind == Velocity
+  VelocityXyMsg xy;      ///< filled for kind == VelocityXy
+  StatusMsg status_msg;  ///< filled for kind == Status
+  TimingMsg timing;      ///< filled for kind == Timing
+};
+
+/// Decodes any frame; never throws, accepts arbitrary input.
+DecodedFrame decode(const CanFrame& frame, const MessageIds& ids) noexcept;
+
+}  // namespace gvs::can

@@ -1,0 +1,90 @@
+// gvsd's configuration: a TOML file (systemd/gvsd.toml is the documented
+// example), then the command line on top.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gvs/dsp/frame.hpp"
+
+namespace gvs::daemon {
+
+/// A configuration that cannot be used. The message names the file, line,
+/// key and the allowed values.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Scheduling of one real-time thread. priority 0 = normal scheduling
+/// (SCHED_OTHER), 1..99 = SCHED_FIFO; cpu -1 = any CPU.
+struct ThreadConfig {
+  int priority = 0;
+  int cpu = -1;
+};
+
+struct DaemonConfig {
+  std::string origin = "(built-in defaults)";  ///< file the values came from
+
+  // [source]
+  std::string source_uri = "sim:sine";
+  int ring_slots = 4;
+  double sim_fps = 60.0;
+  std::int64_t sim_seed = 1;
+  double replay_preload_limit_mb = 2048.0;
+
+  // [can]
+  std::string can_uri = "candump:-";
+  int period_ms = 20;
+  int status_period_ms = 100;
+  double staleness_limit_ms = 50.0;   ///< reloadable
+  double late_wakeup_limit_ms = 1.0;  ///< reloadable: a sender wake-up later than this counts as late
+  std::uint32_t base_id = 0x300;      ///< CAN ID of GVS_Velocity; the others follow (can/gvs.dbc)
+
+  // [camera]
+  dsp::CameraGeometry camera;
+  double lever_arm_x_m = 0.0;  ///< sensor position relative to the car's reference point, vehicle axes
+  double lever_arm_y_m = 0.0;
+
+  // [estimator]
+  std::string estimator_method = "gvs";
+
+  // [exposure] (reloadable; see dsp/exposure_control.hpp)
+  std::string exposure_mode = "adaptive";  ///< fixed | adaptive | double-pulse
+  double exposure_initial_us = 3000.0;
+  double exposure_max_us = 3000.0;     ///< longest continuous exposure
+  double exposure_min_pulse_us = 2.0;  ///< shortest LED pulse
+
+  // [threads]
+  ThreadConfig capture_thread{80, -1};
+  ThreadConfig processing_thread{70, -1};
+  ThreadConfig sender_thread{90, -1};
+  bool lock_memory = true;
+  int prefault_stack_kb = 256;
+
+  // [log] (reloadable)
+  std::string log_level = "info";
+  double health_interval_s = 5.0;
+
+  // command line only
+  double run_for_s = 0.0;  ///< 0: until stopped
+};
+
+/// Parses TOML text; `origin` names it in messages (usually the file path).
+DaemonConfig parse_config(std::string_view toml_text, const std::string& origin);
+/// Reads and parses a file. Throws ConfigError (also when it cannot be read).
+DaemonConfig load_config_file(const std::filesystem::path& file);
+
+/// Settings that differ between `running` and `reloaded` but only take
+/// effect at a restart (by key name, e.g. "source.uri").
+std::vector<std::string> restart_only_changes(const DaemonConfig& running,
+                                              const DaemonConfig& reloaded);
+
+/// The list of log levels accepted in [log] level.
+const std::vector<std::string>& log_level_names();
+
+}  // namespace gvs::daemon

@@ -1,0 +1,40 @@
+// The processing thread's view of an estimator: a dsp estimator built by
+// name, or "truth" (the source's ground truth, for testing the pipeline
+// without an estimator), plus the lever arm to the car's reference point.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "gvs/daemon/frame_slot.hpp"
+#include "gvs/dsp/estimate.hpp"
+#include "gvs/dsp/frame.hpp"
+
+namespace gvs::daemon {
+
+class FrameEstimator {
+ public:
+  FrameEstimator() = default;
+  FrameEstimator(const FrameEstimator&) = delete;
+  FrameEstimator& operator=(const FrameEstimator&) = delete;
+  virtual ~FrameEstimator() = default;
+
+  /// Real-time path: no throw, no allocation after the first frame.
+  virtual dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept = 0;
+  virtual void reset() noexcept = 0;
+  [[nodiscard]] virtual std::string name() const = 0;
+};
+
+/// "truth" or a dsp::estimator_names() entry. Throws std::runtime_error
+/// naming the method and the allowed ones.
+std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
+                                                     const dsp::CameraGeometry& geometry);
+
+/// Moves a sensor-point velocity to the car's reference point. The sensor
+/// sits at r = (x, y) metres from the reference point (vehicle axes); for a
+/// rigid body v_sensor = v_ref + omega x r, so
+///   v_ref_x = v_x + omega * r_y,   v_ref_y = v_y - omega * r_x   (omega in rad/s).
+/// Needs the yaw rate: without it the estimate is left at the sensor point.
+void apply_lever_arm(dsp::VelocityEstimate& e, double lever_arm_x_m, double lever_arm_y_m) noexcept;
+
+}  // namespace gvs::daemon

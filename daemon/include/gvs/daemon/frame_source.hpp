@@ -1,0 +1,53 @@
+// Where frames come from: `sim:SCENARIO`, `replay:DIR`, later `libcamera[:ID]`.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include "gvs/daemon/frame_slot.hpp"
+#include "gvs/dsp/frame.hpp"
+
+namespace gvs::daemon {
+
+struct DaemonConfig;
+
+enum class SourceStatus {
+  frame,  ///< the slot holds a new frame
+  end,    ///< the source has no more frames (replay finished)
+  error,  ///< this frame could not be read; the source may recover
+  stopped ///< the stop flag was raised while waiting
+};
+
+/// A camera, real or not. next() runs on the capture thread: it waits for
+/// the frame's time (paced sources) and fills the slot in place; it never
+/// throws and, once prepare() has run on the slot, never allocates.
+class FrameSource {
+ public:
+  FrameSource() = default;
+  FrameSource(const FrameSource&) = delete;
+  FrameSource& operator=(const FrameSource&) = delete;
+  virtual ~FrameSource() = default;
+
+  /// "sim:sine (60 fps, 512x384)" — for the log.
+  [[nodiscard]] virtual std::string describe() const = 0;
+  /// Geometry of the frames (and of the camera on the car).
+  [[nodiscard]] virtual dsp::CameraGeometry geometry() const = 0;
+  /// Nominal frame rate, frames per second.
+  [[nodiscard]] virtual double nominal_fps() const = 0;
+  /// Start-up: allocates the slot's buffers (called for each ring slot).
+  virtual void prepare(FrameSlot& slot) = 0;
+  /// Capture thread: waits for and delivers the next frame.
+  virtual SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept = 0;
+  /// Capture thread: exposure for the frames from the next one on. Sources
+  /// without exposure control ignore it.
+  virtual void set_exposure(const dsp::ExposurePlan& plan) noexcept = 0;
+  [[nodiscard]] virtual bool controls_exposure() const = 0;
+};
+
+/// Builds the source named by `config.source_uri`. Throws std::runtime_error
+/// (unknown scheme, missing dataset, unknown scenario, libcamera not yet
+/// supported) with a message saying what to do.
+std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config);
+
+}  // namespace gvs::daemon

@@ -1,0 +1,35 @@
+// Real-time setup: SCHED_FIFO priority and CPU affinity per thread, locked
+// memory, prefaulted stacks. Every call reports instead of throwing, so the
+// same binary runs on a desk without the privilege.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "gvs/daemon/config.hpp"
+
+namespace gvs::daemon {
+
+/// What happened when a thread asked for its scheduling.
+struct ThreadRtReport {
+  bool applied = false;   ///< the thread ran its setup
+  bool fifo = false;      ///< runs SCHED_FIFO at the requested priority
+  int sched_errno = 0;    ///< why not (0 = not requested or ok)
+  bool pinned = false;    ///< runs on the requested CPU
+  int affinity_errno = 0;
+};
+
+/// Called by a thread on itself: priority (0 = leave normal scheduling), CPU
+/// (-1 = any), then prefaults `prefault_stack_kb` of its stack.
+ThreadRtReport setup_this_thread(const ThreadConfig& config, int prefault_stack_kb) noexcept;
+
+/// Touches `bytes` of stack below the caller so later page faults cannot occur there.
+void prefault_stack(std::size_t bytes) noexcept;
+
+/// mlockall(MCL_CURRENT | MCL_FUTURE); returns 0 or errno.
+int lock_all_memory() noexcept;
+
+/// "SCHED_FIFO 80 on CPU 1" / "normal scheduling (EPERM: ...)".
+std::string describe(const ThreadRtReport& report, const ThreadConfig& wanted);
+
+}  // namespace gvs::daemon

@@ -1,0 +1,242 @@
+// gvsd's main thread.
+#include "gvs/daemon/app.hpp"
+
+#include <pthread.h>
+#include <signal.h>
+#include <systemd/sd-daemon.h>
+
+#include <cerrno>
+#include <cstring>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "gvs/can/sink.hpp"
+#include "gvs/daemon/clock.hpp"
+#include "gvs/daemon/config.hpp"
+#include "gvs/daemon/frame_estimator.hpp"
+#include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/health.hpp"
+#include "gvs/daemon/logging.hpp"
+#include "gvs/daemon/pipeline.hpp"
+#include "gvs/daemon/rt.hpp"
+
+namespace gvs::daemon {
+
+namespace {
+
+struct CommandLine {
+  std::string config_file;
+  std::string source_uri;
+  std::string can_uri;
+  std::optional<double> run_for_s;
+};
+
+DaemonConfig load(const CommandLine& cli) {
+  DaemonConfig c = cli.config_file.empty() ? DaemonConfig{} : load_config_file(cli.config_file);
+  if (!cli.source_uri.empty()) c.source_uri = cli.source_uri;
+  if (!cli.can_uri.empty()) c.can_uri = cli.can_uri;
+  if (cli.run_for_s) c.run_for_s = *cli.run_for_s;
+  return c;
+}
+
+/// Logs the real-time set-up once: one line when all is well, one warning
+/// naming what was refused otherwise.
+void report_realtime(const Pipeline& pipeline, const DaemonConfig& c, int mlock_errno) {
+  const ThreadConfig* wanted[] = {&c.capture_thread, &c.processing_thread, &c.sender_thread};
+  std::string threads;
+  for (std::size_t i = 0; i < kThreadCount; ++i) {
+    threads += fmt::format("{}{}: {}", i == 0 ? "" : "; ", role_name(static_cast<ThreadRole>(i)),
+                           describe(pipeline.rt_reports()[i], *wanted[i]));
+  }
+  const bool rt_ok = pipeline.realtime() && mlock_errno == 0;
+  const std::string memory = !c.lock_memory ? "memory not locked (configured)"
+                             : mlock_errno == 0 ? "memory locked"
+                                                : fmt::format("mlockall refused: {}", std::strerror(mlock_errno));
+  if (rt_ok) {
+    spdlog::info("real-time: {}; {}; stacks prefaulted ({} KiB)", threads, memory, c.prefault_stack_kb);
+  } else {
+    spdlog::warn(
+        "real-time set-up incomplete, running anyway: {}; {}. For real-time operation run as root or grant "
+        "CAP_SYS_NICE and CAP_IPC_LOCK (systemd: AmbientCapabilities=CAP_SYS_NICE CAP_IPC_LOCK, "
+        "LimitRTPRIO=99, LimitMEMLOCK=infinity)",
+        threads, memory);
+  }
+}
+
+void log_sink_events(Pipeline& pipeline) {
+  can::SinkEvent e;
+  while (pipeline.pop_sink_event(e)) {
+    const auto level = e.kind == can::SinkEventKind::InterfaceUp || e.kind == can::SinkEventKind::ErrorActive ||
+                               e.kind == can::SinkEventKind::Restarted
+                           ? spdlog::level::info
+                           : spdlog::level::warn;
+    spdlog::log(level, "CAN {}: {} (detail {})", pipeline.sink_description(), can::to_string(e.kind), e.detail);
+  }
+}
+
+/// SIGHUP: re-read the file, apply what can change while running.
+void reload(const CommandLine& cli, DaemonConfig& running, Pipeline& pipeline) {
+  sd_notifyf(0, "RELOADING=1\nMONOTONIC_USEC=%llu",
+             static_cast<unsigned long long>(mono_now_ns() / 1000));
+  if (cli.config_file.empty()) {
+    spdlog::info("SIGHUP: no --config file, nothing to reload");
+  } else {
+    try {
+      DaemonConfig fresh = load(cli);
+      for (const std::string& key : restart_only_changes(running, fresh)) {
+        spdlog::warn("SIGHUP: {} changed in {}; it takes effect at the next restart", key, cli.config_file);
+      }
+      running.staleness_limit_ms = fresh.staleness_limit_ms;
+      running.late_wakeup_limit_ms = fresh.late_wakeup_limit_ms;
+      running.exposure_mode = fresh.exposure_mode;
+      running.exposure_initial_us = fresh.exposure_initial_us;
+      running.exposure_max_us = fresh.exposure_max_us;
+      running.exposure_min_pulse_us = fresh.exposure_min_pulse_us;
+      running.log_level = fresh.log_level;
+      running.health_interval_s = fresh.health_interval_s;
+      pipeline.apply_reloadable(running);
+      spdlog::set_level(spdlog::level::from_str(running.log_level));
+      spdlog::info("SIGHUP: reloaded {} (staleness limit {} ms, exposure {} max {} us, log level {}, health every {} s)",
+                   cli.config_file, running.staleness_limit_ms, running.exposure_mode, running.exposure_max_us,
+                   running.log_level, running.health_interval_s);
+    } catch (const std::exception& e) {
+      spdlog::error("SIGHUP: keeping the running configuration: {}", e.what());
+    }
+  }
+  sd_notify(0, "READY=1");
+}
+
+int run(const CommandLine& cli) {
+  const bool journal = running_under_systemd();
+  setup_logging("info", journal);
+  DaemonConfig config;
+  try {
+    config = load(cli);
+  } catch (const ConfigError& e) {
+    spdlog::critical("configuration: {}", e.what());
+    return 1;
+  }
+  spdlog::set_level(spdlog::level::from_str(config.log_level));
+
+  // Block the stop/reload signals in every thread; the main thread takes
+  // them synchronously with sigtimedwait, so no handler runs on an RT thread.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  std::unique_ptr<Pipeline> pipeline;
+  int mlock_errno = 0;
+  try {
+    auto source = make_frame_source(config);
+    auto estimator = make_frame_estimator(config.estimator_method, source->geometry());
+    can::SinkOptions sink_options;
+    auto sink = can::open_sink(config.can_uri, sink_options);
+    spdlog::info("gvsd: source {}, estimator {}, CAN {} (base ID 0x{:03X}, every {} ms, status every {} ms), "
+                 "stale after {} ms, config {}",
+                 source->describe(), estimator->name(), sink->description(), config.base_id, config.period_ms,
+                 config.status_period_ms, config.staleness_limit_ms, config.origin);
+    if (config.lock_memory) mlock_errno = lock_all_memory();
+    PipelineHooks hooks;
+    if (config.run_for_s > 0.0) {
+      hooks.max_ticks = static_cast<std::uint64_t>(config.run_for_s * 1000.0 / config.period_ms + 0.5);
+    }
+    pipeline = std::make_unique<Pipeline>(config, std::move(source), std::move(estimator), std::move(sink), hooks);
+    pipeline->start();
+  } catch (const std::exception& e) {
+    spdlog::critical("start-up: {}", e.what());
+    return 1;
+  }
+  report_realtime(*pipeline, config, config.lock_memory ? mlock_errno : 0);
+
+  std::uint64_t watchdog_usec = 0;
+  const bool watchdog = sd_watchdog_enabled(0, &watchdog_usec) > 0 && watchdog_usec > 0;
+  const std::int64_t watchdog_every_ns = watchdog ? static_cast<std::int64_t>(watchdog_usec) * 1000 / 2 : 0;
+  sd_notify(0, "READY=1\nSTATUS=starting");
+  if (watchdog) spdlog::info("systemd watchdog every {} ms (fed while every thread makes progress)", watchdog_usec / 1000);
+
+  const std::int64_t started_ns = mono_now_ns();
+  std::int64_t next_health_ns = started_ns + static_cast<std::int64_t>(config.health_interval_s * 1e9);
+  std::int64_t next_watchdog_ns = started_ns;
+  Progress last_progress = pipeline->progress();
+  HealthSnapshot last_health = snapshot(pipeline->counters());
+  std::int64_t last_health_ns = started_ns;
+  std::string stop_reason;
+
+  while (stop_reason.empty()) {
+    const timespec wait = to_timespec(20 * kNsPerMs);
+    siginfo_t info{};
+    const int sig = sigtimedwait(&signals, &info, &wait);
+    const std::int64_t now = mono_now_ns();
+    if (sig == SIGTERM || sig == SIGINT) {
+      stop_reason = sig == SIGTERM ? "SIGTERM" : "SIGINT";
+      break;
+    }
+    if (sig == SIGHUP) reload(cli, config, *pipeline);
+    if (pipeline->run_complete()) stop_reason = fmt::format("--run-for {} s done", config.run_for_s);
+    if (pipeline->source_ended()) stop_reason = "end of the source";
+
+    log_sink_events(*pipeline);
+    if (watchdog && now >= next_watchdog_ns) {
+      const Progress p = pipeline->progress();
+      bool all = true;
+      for (std::size_t i = 0; i < kThreadCount; ++i) all = all && p.beats[i] != last_progress.beats[i];
+      if (all) {
+        sd_notify(0, "WATCHDOG=1");
+        last_progress = p;
+      }
+      next_watchdog_ns = now + watchdog_every_ns;
+    }
+    if (now >= next_health_ns) {
+      const HealthSnapshot h = snapshot(pipeline->counters());
+      const PublishedEstimate latest = pipeline->latest();
+      spdlog::info("{}", format_health_line(h, last_health, latest, now,
+                                            static_cast<double>(now - last_health_ns) / 1e9));
+      sd_notifyf(0, "STATUS=%s", format_status_text(h, latest, now).c_str());
+      last_health = h;
+      last_health_ns = now;
+      next_health_ns = now + static_cast<std::int64_t>(config.health_interval_s * 1e9);
+    }
+  }
+
+  sd_notify(0, "STOPPING=1");
+  const std::int64_t stop_ns = mono_now_ns();
+  pipeline->request_stop();
+  pipeline->join();
+  log_sink_events(*pipeline);
+  const HealthSnapshot h = snapshot(pipeline->counters());
+  spdlog::info("{}", format_health_line(h, last_health, pipeline->latest(), mono_now_ns(),
+                                        static_cast<double>(mono_now_ns() - last_health_ns) / 1e9));
+  spdlog::info("stopped ({}) in {:.1f} ms after {:.1f} s", stop_reason,
+               static_cast<double>(mono_now_ns() - stop_ns) / 1e6,
+               static_cast<double>(stop_ns - started_ns) / 1e9);
+  return 0;
+}
+
+}  // namespace
+
+int gvsd_main(int argc, char** argv) {
+  CLI::App app{
+      "gvsd: ground velocity sensor daemon. Frames from a camera (or the simulator, or a recorded dataset) "
+      "in, velocity on the CAN bus every 20 ms out."};
+  CommandLine cli;
+  app.add_option("--config", cli.config_file, "TOML configuration file (see systemd/gvsd.toml)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--source", cli.source_uri, "frame source: sim:SCENARIO | replay:DIR | libcamera[:ID] (default sim:sine)");
+  app.add_option("--can", cli.can_uri, "CAN output: socketcan:IFACE | candump:PATH ('-' = stdout) (default candump:-)");
+  app.add_option("--run-for", cli.run_for_s, "stop after this many seconds (exactly that many CAN periods)")
+      ->check(CLI::PositiveNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return run(cli);
+}
+
+}  // namespace gvs::daemon

@@ -1,0 +1,82 @@
+#include "gvs/daemon/frame_estimator.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "gvs/dsp/estimator.hpp"
+#include "gvs/dsp/geometry.hpp"
+
+namespace gvs::daemon {
+
+namespace {
+
+/// A dsp estimator from the factory.
+class DspEstimator final : public FrameEstimator {
+ public:
+  DspEstimator(std::unique_ptr<dsp::VelocityEstimator> estimator, std::string name)
+      : estimator_(std::move(estimator)), name_(std::move(name)) {}
+  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+    return estimator_->estimate(slot.view);
+  }
+  void reset() noexcept override { estimator_->reset(); }
+  [[nodiscard]] std::string name() const override { return name_; }
+
+ private:
+  std::unique_ptr<dsp::VelocityEstimator> estimator_;
+  std::string name_;
+};
+
+/// Reports the truth the source carries (simulator; replay with truth.csv):
+/// checks the daemon's timing and CAN path without an estimator's errors.
+class TruthEstimator final : public FrameEstimator {
+ public:
+  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+    const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
+    if (!slot.truth.known) return dsp::no_estimate(slot.view.index, mid_ns, "none");
+    dsp::VelocityEstimate e;
+    e.index = slot.view.index;
+    e.t_ns = mid_ns;
+    e.has_speed = true;
+    e.has_direction = slot.truth.speed_mps >= dsp::VelocityEstimate::kStandstillMps;
+    e.has_yaw_rate = true;
+    e.vx_mps = slot.truth.vx_mps;
+    e.vy_mps = slot.truth.vy_mps;
+    e.speed_mps = slot.truth.speed_mps;
+    e.direction_deg = slot.truth.direction_deg;
+    e.yaw_rate_dps = slot.truth.yaw_rate_dps;
+    e.quality = 1.0;
+    e.method = "truth";
+    return e;
+  }
+  void reset() noexcept override {}
+  [[nodiscard]] std::string name() const override { return "truth"; }
+};
+
+}  // namespace
+
+std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
+                                                     const dsp::CameraGeometry& geometry) {
+  if (method == "truth") return std::make_unique<TruthEstimator>();
+  dsp::EstimatorConfig config;
+  config.method = method;
+  config.camera = geometry;
+  try {
+    return std::make_unique<DspEstimator>(dsp::make_estimator(config), method);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("[estimator] method: ") + e.what() +
+                             " (or \"truth\": the source's ground truth, for pipeline tests)");
+  }
+}
+
+void apply_lever_arm(dsp::VelocityEstimate& e, double lever_arm_x_m, double lever_arm_y_m) noexcept {
+  if (lever_arm_x_m == 0.0 && lever_arm_y_m == 0.0) return;
+  if (!e.has_yaw_rate || !e.has_velocity_xy()) return;
+  const double omega = dsp::deg_to_rad(e.yaw_rate_dps);
+  e.vx_mps += omega * lever_arm_y_m;
+  e.vy_mps -= omega * lever_arm_x_m;
+  e.speed_mps = std::hypot(e.vx_mps, e.vy_mps);
+  e.has_direction = e.speed_mps >= dsp::VelocityEstimate::kStandstillMps;
+  e.direction_deg = e.has_direction ? dsp::direction_deg({e.vx_mps, e.vy_mps}) : 0.0;
+}
+
+}  // namespace gvs::daemon

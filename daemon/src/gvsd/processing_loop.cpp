@@ -1,0 +1,68 @@
+// The processing thread: newest frame -> estimator -> latest estimate
+// (seqlock) -> exposure controller -> next exposure plan (seqlock).
+#include <algorithm>
+
+#include "gvs/daemon/clock.hpp"
+#include "gvs/daemon/pipeline.hpp"
+
+namespace gvs::daemon {
+
+namespace {
+
+bool same_plan(const dsp::ExposurePlan& a, const dsp::ExposurePlan& b) {
+  if (a.exposure_us != b.exposure_us || a.pulse_count != b.pulse_count) return false;
+  for (std::size_t i = 0; i < std::min(a.pulse_count, dsp::ExposurePlan::kMaxPulses); ++i) {
+    if (a.pulses[i].start_us != b.pulses[i].start_us || a.pulses[i].duration_us != b.pulses[i].duration_us) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+void Pipeline::processing_loop() noexcept {
+  constexpr std::int64_t kIdleWaitNs = 20 * kNsPerMs;  // heartbeat and stop check without frames
+  std::uint64_t published = 0;
+  dsp::ExposurePlan plan = exposure_request_.read();
+
+  while (!stop_.load(std::memory_order_relaxed)) {
+    bump(counters_.processing_heartbeat);
+    std::uint64_t skipped = 0;
+    FrameSlot* slot = ring_.take_newest(skipped);
+    if (slot == nullptr) {
+      frame_ready_.wait_for(kIdleWaitNs);
+      continue;
+    }
+    if (skipped != 0) bump(counters_.frames_skipped, skipped);
+
+    const std::int64_t t0 = mono_now_ns();
+    dsp::VelocityEstimate e = estimator_->estimate(*slot);
+    apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
+    const std::int64_t t1 = mono_now_ns();
+    if (!e.has_speed) bump(counters_.estimator_failures);
+    raise_max(counters_.processing_max_ns, t1 - t0);
+
+    PublishedEstimate p;
+    p.sequence = ++published;
+    p.estimate = e;
+    p.captured_ns = slot->captured_ns;
+    p.published_ns = t1;
+    p.processing_ns = t1 - t0;
+    p.exposure_us = slot->view.exposure.exposure_us;
+    latest_.write(p);
+
+    if (source_->controls_exposure()) {
+      const ExposureSettings s = exposure_settings_.read();
+      const dsp::ExposurePlan next = dsp::next_exposure(e, plan, s.mode, s.limits);
+      if (!same_plan(next, plan)) {
+        plan = next;
+        exposure_request_.write(plan);
+      }
+    }
+    ring_.release();
+    bump(counters_.frames_processed);
+  }
+}
+
+}  // namespace gvs::daemon

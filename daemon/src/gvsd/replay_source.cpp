@@ -1,0 +1,84 @@
+#include "replay_source.hpp"
+
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "gvs/daemon/clock.hpp"
+#include "sim_source.hpp"
+
+namespace gvs::daemon {
+
+ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_limit_mb) : folder_(folder) {
+  try {
+    const drivers::DatasetReader reader(folder);
+    geometry_ = reader.camera().geometry;
+    records_ = reader.frames();
+    if (records_.empty()) throw std::runtime_error(folder.string() + ": the dataset has no frames");
+    const double mb = static_cast<double>(records_.size()) * geometry_.width_px * geometry_.height_px / 1048576.0;
+    if (mb > preload_limit_mb) {
+      std::ostringstream msg;
+      msg << folder.string() << ": " << records_.size() << " frames need " << mb
+          << " MiB in memory, more than [source] replay_preload_limit_mb = " << preload_limit_mb
+          << "; raise the limit or replay a shorter dataset";
+      throw std::runtime_error(msg.str());
+    }
+    frames_.reserve(records_.size());
+    for (std::size_t i = 0; i < records_.size(); ++i) {
+      cv::Mat gray = reader.load_gray(i);
+      if (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px) {
+        std::ostringstream msg;
+        msg << folder.string() << ": " << records_[i].file << " is " << gray.cols << 'x' << gray.rows
+            << " px but camera.json says " << geometry_.width_px << 'x' << geometry_.height_px;
+        throw std::runtime_error(msg.str());
+      }
+      frames_.push_back(std::move(gray));
+    }
+    std::unordered_map<std::int64_t, const drivers::TruthRecord*> by_index;
+    for (const auto& t : reader.truth()) by_index[t.index] = &t;
+    truth_.resize(records_.size());
+    for (std::size_t i = 0; i < records_.size(); ++i) {
+      auto it = by_index.find(records_[i].index);
+      if (it == by_index.end()) continue;
+      const drivers::TruthRecord& t = *it->second;
+      truth_[i] = FrameTruth{true, t.vx_mps, t.vy_mps, t.speed_mps, t.direction_deg.value_or(0.0), t.yaw_rate_dps};
+    }
+    if (records_.size() >= 2) {
+      const double span_s = static_cast<double>(records_.back().t_ns - records_.front().t_ns) / 1e9;
+      const auto steps = static_cast<double>(records_.back().index - records_.front().index);
+      if (span_s > 0.0 && steps > 0.0) fps_ = steps / span_s;
+    }
+  } catch (const drivers::DatasetError& e) {
+    throw std::runtime_error(std::string("replay: ") + e.what());
+  }
+}
+
+std::string ReplaySource::describe() const {
+  std::ostringstream s;
+  s << "replay:" << folder_.string() << " (" << records_.size() << " frames, " << fps_ << " fps, "
+    << geometry_.width_px << 'x' << geometry_.height_px << " px)";
+  return s.str();
+}
+
+void ReplaySource::prepare(FrameSlot& slot) {
+  slot.view.gray.create(geometry_.height_px, geometry_.width_px, CV_8UC1);
+  slot.view.gray.setTo(0);
+}
+
+SourceStatus ReplaySource::next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept {
+  if (next_ >= records_.size()) return SourceStatus::end;
+  const std::size_t i = next_++;
+  const drivers::FrameRecord& rec = records_[i];
+  if (base_ns_ < 0) base_ns_ = mono_now_ns() - (rec.t_ns - records_.front().t_ns);
+  const std::int64_t exposure_start_ns = base_ns_ + (rec.t_ns - records_.front().t_ns);
+  const auto exposure_ns = static_cast<std::int64_t>(rec.exposure.exposure_us * 1000.0);
+  if (!sleep_until_or_stop(exposure_start_ns + exposure_ns, stop)) return SourceStatus::stopped;
+  frames_[i].copyTo(slot.view.gray);  // same size and type: a plain copy, no allocation
+  slot.view.index = rec.index;
+  slot.view.t_ns = exposure_start_ns;
+  slot.view.exposure = rec.exposure;
+  slot.truth = truth_[i];
+  return SourceStatus::frame;
+}
+
+}  // namespace gvs::daemon

@@ -1,0 +1,43 @@
+// `replay:DIR` frame source (private to gvsd): a gvs-dataset played back at
+// the pace of its timestamps. The frames are decoded into memory at start-up
+// (PNG decoding allocates), so the capture thread only copies pixels.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/dataset.hpp"
+
+namespace gvs::daemon {
+
+class ReplaySource final : public FrameSource {
+ public:
+  /// Throws std::runtime_error naming the folder when it cannot be read or
+  /// is larger than `preload_limit_mb`.
+  ReplaySource(const std::filesystem::path& folder, double preload_limit_mb);
+
+  [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] dsp::CameraGeometry geometry() const override { return geometry_; }
+  [[nodiscard]] double nominal_fps() const override { return fps_; }
+  void prepare(FrameSlot& slot) override;
+  SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
+  void set_exposure(const dsp::ExposurePlan&) noexcept override {}
+  [[nodiscard]] bool controls_exposure() const override { return false; }
+
+ private:
+  std::filesystem::path folder_;
+  dsp::CameraGeometry geometry_;
+  std::vector<drivers::FrameRecord> records_;
+  std::vector<cv::Mat> frames_;
+  std::vector<FrameTruth> truth_;
+  double fps_ = 0.0;
+  std::size_t next_ = 0;
+  std::int64_t base_ns_ = -1;  ///< monotonic time of the dataset's first t_ns
+};
+
+}  // namespace gvs::daemon

@@ -1,0 +1,65 @@
+#include "gvs/daemon/rt.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <cerrno>
+#include <cstring>
+#include <sstream>
+
+namespace gvs::daemon {
+
+void prefault_stack(std::size_t bytes) noexcept {
+  if (bytes == 0) return;
+  // A variable-length region on this thread's stack, written once per page.
+  auto* region = static_cast<volatile unsigned char*>(__builtin_alloca(bytes));
+  constexpr std::size_t kPage = 4096;
+  for (std::size_t i = 0; i < bytes; i += kPage) region[i] = 0;
+}
+
+ThreadRtReport setup_this_thread(const ThreadConfig& config, int prefault_stack_kb) noexcept {
+  ThreadRtReport r;
+  r.applied = true;
+  if (config.priority > 0) {
+    sched_param param{};
+    param.sched_priority = config.priority;
+    r.sched_errno = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    r.fifo = r.sched_errno == 0;
+  }
+  if (config.cpu >= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(static_cast<std::size_t>(config.cpu), &set);
+    r.affinity_errno = pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+    r.pinned = r.affinity_errno == 0;
+  }
+  prefault_stack(static_cast<std::size_t>(prefault_stack_kb) * 1024U);
+  return r;
+}
+
+int lock_all_memory() noexcept {
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) return errno;
+  return 0;
+}
+
+std::string describe(const ThreadRtReport& r, const ThreadConfig& wanted) {
+  std::ostringstream s;
+  if (wanted.priority == 0) {
+    s << "normal scheduling (configured)";
+  } else if (r.fifo) {
+    s << "SCHED_FIFO " << wanted.priority;
+  } else {
+    s << "normal scheduling (SCHED_FIFO " << wanted.priority << " refused: " << std::strerror(r.sched_errno) << ')';
+  }
+  if (wanted.cpu >= 0) {
+    if (r.pinned) {
+      s << " on CPU " << wanted.cpu;
+    } else {
+      s << ", any CPU (CPU " << wanted.cpu << " refused: " << std::strerror(r.affinity_errno) << ')';
+    }
+  }
+  return s.str();
+}
+
+}  // namespace gvs::daemon

@@ -1,0 +1,143 @@
+// The CAN sender: wakes on an absolute schedule (clock_nanosleep with
+// TIMER_ABSTIME, so lateness never accumulates), packs the latest estimate
+// and its age, and every status period the status and timing messages.
+// Stale or missing estimates go out with their Valid bits cleared.
+#include <array>
+
+#include "gvs/daemon/clock.hpp"
+#include "gvs/daemon/pipeline.hpp"
+
+namespace gvs::daemon {
+
+namespace {
+
+std::uint8_t low_byte(std::uint64_t v) { return static_cast<std::uint8_t>(v & 0xFFU); }
+
+}  // namespace
+
+void Pipeline::send_frame(const can::CanFrame& frame) noexcept {
+  if (sink_->send(frame) == can::SendResult::Ok) {
+    bump(counters_.frames_sent);
+  } else {
+    bump(counters_.send_errors);
+    counters_.last_send_errno.store(sink_->counters().last_errno, std::memory_order_relaxed);
+  }
+}
+
+void Pipeline::collect_sink_events() noexcept {
+  std::array<can::SinkEvent, 8> events{};
+  const std::size_t n = sink_->poll_events(events);
+  for (std::size_t i = 0; i < n; ++i) {
+    can::SinkEvent* slot = sink_events_.try_claim();
+    if (slot == nullptr) {
+      bump(sink_events_lost_);
+      continue;
+    }
+    *slot = events[i];
+    sink_events_.publish();
+  }
+}
+
+can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, bool fresh) noexcept {
+  const HealthSnapshot now = snapshot(counters_);
+  can::StatusMsg m;
+  const bool camera_fault = now.frames_captured == status_last_.frames_captured ||
+                            now.source_errors != status_last_.source_errors;
+  if (camera_fault) m.faults |= can::kFaultCamera;
+  if (!fresh) m.faults |= can::kFaultEstimateStale;
+  if (now.ring_overruns != status_last_.ring_overruns) m.faults |= can::kFaultRingOverrun;
+  if (now.late_wakeups != status_last_.late_wakeups || now.missed_ticks != status_last_.missed_ticks) {
+    m.faults |= can::kFaultDeadlineMiss;
+  }
+  if (now.send_errors != status_last_.send_errors) m.faults |= can::kFaultCanSendError;
+  if (!realtime()) m.faults |= can::kFaultNoRealtime;
+  m.faults = static_cast<std::uint16_t>(m.faults | sink_->take_fault_bits());
+
+  if (stop_.load(std::memory_order_relaxed)) {
+    m.state = can::SensorState::Stopping;
+  } else if (latest.sequence == 0) {
+    m.state = can::SensorState::Init;
+  } else if (camera_fault && !fresh) {
+    m.state = can::SensorState::Fault;
+  } else if (fresh && latest.estimate.has_speed) {
+    m.state = can::SensorState::Running;
+  } else {
+    m.state = can::SensorState::Degraded;
+  }
+  m.dropped_frames = low_byte(now.frames_dropped + now.frames_skipped);
+  m.ring_overruns = low_byte(now.ring_overruns);
+  m.can_send_errors = low_byte(now.send_errors);
+  m.method = can::method_code(latest.estimate.method);
+  status_last_ = now;
+  return m;
+}
+
+void Pipeline::sender_loop() noexcept {
+  const std::int64_t period_ns = config_.period_ms * kNsPerMs;
+  const int status_every = config_.status_period_ms / config_.period_ms;
+  std::uint64_t last_sequence = 0;
+  std::int64_t tick = 0;
+  status_last_ = snapshot(counters_);
+  std::int64_t next_ns = mono_now_ns() + period_ns;
+
+  for (;;) {
+    sleep_until_ns(next_ns);
+    const std::int64_t woke_ns = mono_now_ns();
+    bump(counters_.sender_heartbeat);
+    const PublishedEstimate latest = latest_.read();
+    const dsp::VelocityEstimate* estimate = latest.sequence != 0 ? &latest.estimate : nullptr;
+    const can::VelocityPair pair =
+        can::velocity_from_estimate(estimate, woke_ns, staleness_ms_.load(std::memory_order_relaxed));
+
+    if (stop_.load(std::memory_order_relaxed)) {  // tell the ECU we are going
+      send_frame(encoder_.status(make_status(latest, false)));
+      collect_sink_events();
+      break;
+    }
+    bump(counters_.sender_ticks);
+    const std::int64_t late_ns = woke_ns - next_ns;
+    raise_max(counters_.wakeup_late_max_ns, late_ns);
+    if (late_ns > late_limit_ns_.load(std::memory_order_relaxed)) bump(counters_.late_wakeups);
+    if (records_.wakeups < records_.wakeup_late_ns.size()) records_.wakeup_late_ns[records_.wakeups++] = late_ns;
+
+    send_frame(encoder_.velocity(pair.velocity));
+    send_frame(encoder_.velocity_xy(pair.xy));
+    if (!pair.velocity.valid) bump(counters_.invalid_sent);
+
+    if (latest.sequence != last_sequence) {
+      last_sequence = latest.sequence;
+      const std::int64_t sent_ns = mono_now_ns();
+      if (records_.estimates < records_.frame_to_can_ns.size()) {
+        records_.frame_to_can_ns[records_.estimates] = sent_ns - latest.captured_ns;
+        records_.frame_to_publish_ns[records_.estimates] = latest.published_ns - latest.captured_ns;
+        ++records_.estimates;
+      }
+    }
+
+    if (tick % status_every == 0) {
+      send_frame(encoder_.status(make_status(latest, pair.velocity.valid)));
+      can::TimingMsg timing;
+      timing.exposure_us = static_cast<std::uint32_t>(latest.exposure_us);
+      timing.processing_time_us = static_cast<std::uint32_t>(latest.processing_ns / 1000);
+      timing.late_wakeups = low_byte(counters_.late_wakeups.load(std::memory_order_relaxed));
+      send_frame(encoder_.timing(timing));
+    }
+    collect_sink_events();  // also flushes a candump log
+    if (max_ticks_ > 0 && counters_.sender_ticks.load(std::memory_order_relaxed) >= max_ticks_) {
+      run_complete_.store(true, std::memory_order_release);  // --run-for: exactly max_ticks periods
+      break;
+    }
+
+    ++tick;
+    next_ns += period_ns;
+    const std::int64_t now = mono_now_ns();
+    if (next_ns <= now) {  // overslept whole periods: skip them, keep the phase
+      const std::int64_t missed = (now - next_ns) / period_ns + 1;
+      bump(counters_.missed_ticks, static_cast<std::uint64_t>(missed));
+      next_ns += missed * period_ns;
+      tick += missed;
+    }
+  }
+}
+
+}  // namespace gvs::daemon

@@ -1,0 +1,105 @@
+// `sim:SCENARIO`: the simulator as a camera. It loops the scenario, renders
+// straight into the ring slot's preallocated pixels and delivers each frame
+// at the end of its exposure, paced in real time at the frame rate.
+#include "sim_source.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "gvs/daemon/clock.hpp"
+
+namespace gvs::daemon {
+
+SimSource::SimSource(const drivers::SimulatorConfig& config) : sim_(config), config_(config) {
+  period_ns_ = static_cast<std::int64_t>(1e9 / config.fps);
+  plan_.exposure_us = config.exposure_us;
+  // Render one frame now so every buffer inside the simulator and the scratch
+  // record has its final size before the real-time loop; it also gives the
+  // first render-time estimate.
+  const std::int64_t t0 = mono_now_ns();
+  sim_.render(0, plan_, scratch_);
+  render_ns_ = mono_now_ns() - t0;
+}
+
+std::string SimSource::describe() const {
+  std::ostringstream s;
+  s << "sim:" << config_.scenario << " (" << config_.fps << " fps, " << config_.camera.width_px << 'x'
+    << config_.camera.height_px << " px, looping)";
+  return s.str();
+}
+
+void SimSource::prepare(FrameSlot& slot) {
+  slot.view.gray.create(config_.camera.height_px, config_.camera.width_px, CV_8UC1);
+  slot.view.gray.setTo(0);  // touch every page now
+}
+
+SourceStatus SimSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept {
+  // A camera exposes frame k during [base + k*T, base + k*T + exposure] and
+  // delivers it at the end, whether or not anyone is ready for it. Pick the
+  // first frame whose delivery is still ahead once it is rendered; frames the
+  // renderer is too slow for are skipped, as a real camera drops them, and
+  // show up as index gaps (counted as dropped). Timestamps stay exact.
+  const std::int64_t now = mono_now_ns();
+  const auto exposure_ns = static_cast<std::int64_t>(plan_.exposure_us * 1000.0);
+  if (base_ns_ < 0) base_ns_ = now + render_ns_;
+  std::int64_t k = next_index_;
+  const std::int64_t ready_ns = now + render_ns_ + render_ns_ / 4;
+  const std::int64_t due_k = base_ns_ + k * period_ns_ + exposure_ns;
+  if (due_k < ready_ns) k += (ready_ns - due_k + period_ns_ - 1) / period_ns_;
+
+  const std::int64_t t0 = mono_now_ns();
+  try {
+    scratch_.gray = slot.view.gray;  // render in place: shares the slot's buffer (no allocation)
+    sim_.render(k, plan_, scratch_);
+  } catch (...) {
+    next_index_ = k + 1;
+    return SourceStatus::error;
+  }
+  const std::int64_t took = mono_now_ns() - t0;
+  render_ns_ = (render_ns_ * 7 + took) / 8;
+  if (took > render_ns_) render_ns_ = took;  // follow slow-downs at once, speed-ups slowly
+  if (scratch_.gray.data != slot.view.gray.data) {
+    // The simulator replaced the buffer (it should not): copy into the slot.
+    if (scratch_.gray.size() != slot.view.gray.size() || scratch_.gray.type() != slot.view.gray.type()) {
+      return SourceStatus::error;
+    }
+    scratch_.gray.copyTo(slot.view.gray);
+  }
+  next_index_ = k + 1;
+
+  const std::int64_t exposure_start_ns = base_ns_ + k * period_ns_;
+  if (!sleep_until_or_stop(exposure_start_ns + exposure_ns, stop)) return SourceStatus::stopped;
+
+  slot.view.index = k;
+  slot.view.t_ns = exposure_start_ns;
+  slot.view.exposure = plan_;
+  const drivers::TruthRecord& t = scratch_.truth;
+  slot.truth.known = true;
+  slot.truth.vx_mps = t.vx_mps;
+  slot.truth.vy_mps = t.vy_mps;
+  slot.truth.speed_mps = t.speed_mps;
+  slot.truth.direction_deg = t.direction_deg.value_or(0.0);
+  slot.truth.yaw_rate_dps = t.yaw_rate_dps;
+  return SourceStatus::frame;
+}
+
+void SimSource::set_exposure(const dsp::ExposurePlan& plan) noexcept {
+  try {
+    sim_.set_exposure(plan);  // checks the plan against the frame period
+    plan_ = plan;
+  } catch (...) {
+    // an impossible plan: keep the previous one
+  }
+}
+
+bool sleep_until_or_stop(std::int64_t t_ns, const std::atomic<bool>& stop) noexcept {
+  constexpr std::int64_t kChunkNs = 50 * kNsPerMs;  // notice a stop request within 50 ms
+  for (;;) {
+    if (stop.load(std::memory_order_relaxed)) return false;
+    const std::int64_t now = mono_now_ns();
+    if (now >= t_ns) return true;
+    sleep_until_ns(t_ns - now > kChunkNs ? now + kChunkNs : t_ns);
+  }
+}
+
+}  // namespace gvs::daemon

@@ -1,0 +1,40 @@
+// `sim:SCENARIO` frame source (private to gvsd): the simulator as a 60 fps
+// camera in real time. Frame k's exposure starts at base + k/fps on the
+// monotonic clock; the scenario loops.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/simulator.hpp"
+
+namespace gvs::daemon {
+
+class SimSource final : public FrameSource {
+ public:
+  explicit SimSource(const drivers::SimulatorConfig& config);
+
+  [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] dsp::CameraGeometry geometry() const override { return config_.camera; }
+  [[nodiscard]] double nominal_fps() const override { return config_.fps; }
+  void prepare(FrameSlot& slot) override;
+  SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
+  void set_exposure(const dsp::ExposurePlan& plan) noexcept override;
+  [[nodiscard]] bool controls_exposure() const override { return true; }
+
+ private:
+  drivers::Simulator sim_;
+  drivers::SimulatorConfig config_;
+  drivers::SimFrame scratch_;  ///< record/truth scratch; its gray points at the slot being filled
+  dsp::ExposurePlan plan_;     ///< exposure of the next frame (closed loop)
+  std::int64_t period_ns_ = 0;
+  std::int64_t base_ns_ = -1;  ///< monotonic start of frame 0's exposure
+  std::int64_t next_index_ = 0;
+  std::int64_t render_ns_ = 0; ///< how long a render takes (running estimate)
+};
+
+/// Sleeps until monotonic `t_ns` in short steps; false if `stop` was raised.
+bool sleep_until_or_stop(std::int64_t t_ns, const std::atomic<bool>& stop) noexcept;
+
+}  // namespace gvs::daemon

@@ -1,0 +1,66 @@
+// Integrates the ground texture over the real motion of each pixel's line of
+// sight while light reaches the sensor (docs/simulator.md, "Exposure").
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "asphalt.hpp"
+#include "gvs/drivers/sim/render_stats.hpp"
+#include "gvs/drivers/sim/scenario.hpp"
+#include "gvs/dsp/frame.hpp"
+
+namespace gvs::drivers::sim {
+
+/// A time interval during which light reaches the sensor (absolute seconds).
+struct LightInterval {
+  double t0_s = 0.0;
+  double t1_s = 0.0;
+};
+
+using ExposureStats = RenderStats;
+
+class ExposureRenderer {
+ public:
+  /// Raster spacing: half a sensor pixel (2x supersampling).
+  static constexpr double kSupersample = 2.0;
+  /// Isotropic blur of pixel footprint + optics, sigma in sensor pixels.
+  static constexpr double kPsfSigmaPx = 0.5;
+  /// Largest allowed deviation of a pixel's path from its straight chord, px.
+  static constexpr double kPathTolerancePx = 0.05;
+
+  /// Writes into `out` (CV_32FC1, height x width) the reflectance each pixel
+  /// saw, averaged over the light intervals (time-weighted).
+  void render(const AsphaltTexture& texture, const Trajectory& trajectory,
+              const dsp::CameraGeometry& camera, const std::vector<LightInterval>& light,
+              cv::Mat& out);
+
+  [[nodiscard]] const ExposureStats& stats() const { return stats_; }
+
+  /// Blur (px, shortest light interval) from which the raster along the
+  /// motion uses the pixel pitch instead of half of it; <= 0: never.
+  void set_coarse_min_blur_px(double px) { coarse_min_blur_px_ = px; }
+
+  /// Raster coordinates of pixel (r, c) at one instant: j = j00 + r jr + c jc, same for i.
+  struct Knot {
+    double t_s;
+    double j00, jr, jc;
+    double i00, ir, ic;
+  };
+
+ private:
+  std::vector<float> reflectance_;
+  /// Per raster sample, interleaved: s = integral of the (linearly
+  /// interpolated) row from column 0 to here, f = blurred reflectance - offset.
+  std::vector<float> cells_;
+  std::vector<Knot> knots_;
+  std::vector<std::size_t> interval_begin_;  ///< first knot of each interval (+ end)
+  ExposureStats stats_;
+  double coarse_min_blur_px_ = 32.0;
+  const AsphaltTexture* texture_id_ = nullptr;  ///< texture and grid of cells_
+  RasterGrid last_grid_;
+};
+
+}  // namespace gvs::drivers::sim

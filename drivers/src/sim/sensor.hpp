@@ -1,0 +1,36 @@
+// The camera sensor: LED-ring falloff, photon shot noise, read noise, fixed
+// pattern noise (PRNU, DSNU), gain, 8-bit quantisation with clipping.
+#pragma once
+
+#include <cstdint>
+
+#include <opencv2/core/mat.hpp>
+
+#include "gvs/drivers/sim/sensor_model.hpp"
+#include "gvs/dsp/frame.hpp"
+
+namespace gvs::drivers::sim {
+
+class Sensor {
+ public:
+  Sensor(const SensorModel& model, const dsp::CameraGeometry& camera, std::uint64_t sensor_seed);
+
+  /// Noise-free signal in electrons (before full-well clipping) for a
+  /// reflectance image and `e_per_reflectance` electrons per unit reflectance
+  /// at the image centre.
+  void electrons(const cv::Mat& reflectance, double e_per_reflectance, cv::Mat& out) const;
+
+  /// The frame: shot + read noise on the electrons, full well, gain, FPN offset,
+  /// rounding and clipping to 8 bits.
+  void expose(const cv::Mat& reflectance, double e_per_reflectance, double gain_dn_per_e,
+              std::uint64_t noise_seed, cv::Mat& gray) const;
+
+  [[nodiscard]] const SensorModel& model() const { return model_; }
+
+ private:
+  SensorModel model_;
+  cv::Mat response_;  ///< light falloff x PRNU, CV_32F
+  cv::Mat offset_;    ///< black level + DSNU, DN, CV_32F
+};
+
+}  // namespace gvs::drivers::sim

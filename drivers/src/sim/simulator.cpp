@@ -1,0 +1,218 @@
+// gvs::drivers::Simulator: scenario -> trajectory -> exposure integral of the
+// asphalt -> sensor. See docs/simulator.md.
+#include "gvs/drivers/simulator.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "asphalt.hpp"
+#include "exposure.hpp"
+#include "gvs/dsp/geometry.hpp"
+#include "hash.hpp"
+#include "sensor.hpp"
+
+namespace gvs::drivers {
+namespace {
+
+void check_config(const SimulatorConfig& c) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("simulator: " + what);
+  };
+  if (!(c.fps > 0.0 && c.fps <= 10000.0)) fail("fps must be in (0, 10000], got " + std::to_string(c.fps));
+  if (!(c.exposure_us > 0.0 && c.exposure_us <= 1e6 / c.fps))
+    fail("exposure_us must be in (0, 1e6/fps], got " + std::to_string(c.exposure_us));
+  if (!(c.seconds >= 0.0 && c.seconds <= 3600.0))
+    fail("seconds must be in [0, 3600], got " + std::to_string(c.seconds));
+  if (c.camera.width_px < 16 || c.camera.height_px < 16 || c.camera.width_px > 8192 ||
+      c.camera.height_px > 8192)
+    fail("camera size must be 16..8192 px");
+  if (!(c.camera.mm_per_px > 0.001 && c.camera.mm_per_px < 10.0))
+    fail("camera mm_per_px must be in (0.001, 10)");
+  if (!std::isfinite(c.camera.mount_yaw_deg)) fail("camera mount_yaw_deg must be finite");
+}
+
+void check_plan(const dsp::ExposurePlan& p, double fps) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("simulator: exposure plan: " + what);
+  };
+  if (!(p.exposure_us > 0.0 && p.exposure_us <= 1e6 / fps))
+    fail("exposure_us must be in (0, frame period], got " + std::to_string(p.exposure_us));
+  if (p.pulse_count > dsp::ExposurePlan::kMaxPulses) fail("more than kMaxPulses pulses");
+  double end = 0.0;
+  for (std::size_t i = 0; i < p.pulse_count; ++i) {
+    const auto& q = p.pulses[i];
+    if (!(q.duration_us > 0.0) || !(q.start_us >= end - 1e-9) ||
+        q.start_us + q.duration_us > p.exposure_us + 1e-9)
+      fail("pulse " + std::to_string(i) +
+           " must have a positive duration, start after the previous one and end within the exposure");
+    end = q.start_us + q.duration_us;
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> scenario_names() { return sim::builtin_scenario_names(); }
+
+struct Simulator::Impl {
+  Impl(const SimulatorConfig& c, sim::Scenario s)
+      : config(c),
+        period_s(c.seconds > 0.0 ? c.seconds : s.length_s),
+        trajectory(std::move(s), period_s, c.loop),
+        texture(c.seed),
+        sensor(c.sensor, c.camera, c.sensor_seed) {
+    config.scenario = trajectory.scenario().name;
+    renderer.set_coarse_min_blur_px(c.coarse_raster_min_blur_px);
+    plan.exposure_us = c.exposure_us;
+    frames = static_cast<std::size_t>(std::floor(period_s * c.fps + 1e-9));
+    calibrate();
+  }
+
+  /// LED drive (relative to continuous) times lit time, microseconds.
+  [[nodiscard]] double light_dose(const dsp::ExposurePlan& p) const {
+    return p.lit_time_us() * (p.pulse_count > 0 ? config.sensor.strobe_overdrive : 1.0);
+  }
+
+  void light_intervals(std::int64_t index, const dsp::ExposurePlan& p,
+                       std::vector<sim::LightInterval>& out) const {
+    const double t0 = static_cast<double>(index) / config.fps;
+    out.clear();
+    if (p.pulse_count == 0) {
+      out.push_back({t0, t0 + p.exposure_us * 1e-6});
+    } else {
+      for (std::size_t i = 0; i < p.pulse_count; ++i)
+        out.push_back({t0 + p.pulses[i].start_us * 1e-6,
+                       t0 + (p.pulses[i].start_us + p.pulses[i].duration_us) * 1e-6});
+    }
+  }
+
+  /// Sets the run's gain from frame 0 at the configured exposure (noise-free):
+  /// normal -> mean target_mean_dn; under/over scale the light.
+  void calibrate() {
+    const sim::SensorModel& m = config.sensor;
+    light_intervals(0, plan, light);
+    renderer.render(texture, trajectory, config.camera, light, reflectance);
+    cv::Mat e;
+    sensor.electrons(reflectance, m.led_flux_e_per_us * light_dose(plan), e);
+    const double mean_e = cv::mean(e)[0];
+    gain = (m.target_mean_dn - m.black_level_dn) / mean_e;
+    switch (config.light) {
+      case LightLevel::normal:
+        light_level = 1.0;
+        break;
+      case LightLevel::under:
+        light_level = (m.under_mean_dn - m.black_level_dn) / (m.target_mean_dn - m.black_level_dn);
+        break;
+      case LightLevel::over: {
+        std::vector<float> v(e.begin<float>(), e.end<float>());
+        const auto q = static_cast<std::ptrdiff_t>(
+            std::clamp(1.0 - m.over_saturated_fraction, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+        std::nth_element(v.begin(), v.begin() + q, v.end());
+        light_level = (255.0 - m.black_level_dn) / (gain * static_cast<double>(v[static_cast<std::size_t>(q)]));
+        break;
+      }
+    }
+  }
+
+  void render(std::int64_t index, const dsp::ExposurePlan& p, SimFrame& out) {
+    const sim::SensorModel& m = config.sensor;
+    light_intervals(index, p, light);
+    renderer.render(texture, trajectory, config.camera, light, reflectance);
+    // Photons follow the light dose; the gain follows like an auto-gain so the
+    // mean stays at the run's level, within [1/r, r] of the run's gain.
+    const double dose = light_dose(p);
+    const double reference = config.exposure_us;  // continuous LED
+    const double ratio = std::clamp(reference / dose, 1.0 / m.max_gain_ratio, m.max_gain_ratio);
+    const std::uint64_t noise_seed =
+        sim::detail::hash_cell(config.seed, 0x5EED, index, static_cast<std::int64_t>(config.sensor_seed));
+    const auto t_sensor = std::chrono::steady_clock::now();
+    sensor.expose(reflectance, m.led_flux_e_per_us * dose * light_level, gain * ratio, noise_seed,
+                  out.gray);
+    stats = renderer.stats();
+    stats.sensor_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_sensor).count();
+
+    const std::int64_t t_ns = std::llround(static_cast<double>(index) * 1e9 / config.fps);
+    out.record = FrameRecord{};
+    out.record.index = index;
+    out.record.t_ns = t_ns;
+    out.record.exposure = p;
+
+    const double centre_us = p.light_centre_us();
+    const double t_mid = static_cast<double>(index) / config.fps + centre_us * 1e-6;
+    const sim::BodyMotion v = trajectory.motion(t_mid);
+    TruthRecord& tr = out.truth;
+    tr = TruthRecord{};
+    tr.index = index;
+    tr.t_ns = t_ns + std::llround(centre_us * 1000.0);
+    tr.vx_mps = v.vx_mps;
+    tr.vy_mps = v.vy_mps;
+    tr.speed_mps = std::hypot(v.vx_mps, v.vy_mps);
+    if (tr.speed_mps >= 0.01) tr.direction_deg = dsp::direction_deg({v.vx_mps, v.vy_mps});
+    tr.yaw_rate_dps = v.yaw_rate_dps;
+  }
+
+  SimulatorConfig config;
+  double period_s;
+  sim::Trajectory trajectory;
+  sim::AsphaltTexture texture;
+  sim::Sensor sensor;
+  sim::ExposureRenderer renderer;
+  dsp::ExposurePlan plan;
+  std::vector<sim::LightInterval> light;
+  cv::Mat reflectance;
+  std::size_t frames = 0;
+  std::int64_t next_index = 0;
+  double gain = 1.0;
+  double light_level = 1.0;
+  sim::RenderStats stats;
+};
+
+Simulator::Simulator(const SimulatorConfig& config)
+    : Simulator(config, (check_config(config), sim::make_scenario(config.scenario))) {}
+
+Simulator::Simulator(const SimulatorConfig& config, sim::Scenario scenario) {
+  check_config(config);
+  if (!scenario.motion) throw std::invalid_argument("simulator: scenario '" + scenario.name + "' has no motion");
+  if (!(scenario.length_s > 0.0) && !(config.seconds > 0.0))
+    throw std::invalid_argument("simulator: scenario '" + scenario.name + "' has no length; set seconds");
+  impl_ = std::make_unique<Impl>(config, std::move(scenario));
+}
+
+Simulator::~Simulator() = default;
+Simulator::Simulator(Simulator&&) noexcept = default;
+Simulator& Simulator::operator=(Simulator&&) noexcept = default;
+
+bool Simulator::next(SimFrame& out) {
+  if (!impl_->config.loop && impl_->next_index >= static_cast<std::int64_t>(impl_->frames)) return false;
+  impl_->render(impl_->next_index, impl_->plan, out);
+  ++impl_->next_index;
+  return true;
+}
+
+void Simulator::set_exposure(const dsp::ExposurePlan& plan) {
+  check_plan(plan, impl_->config.fps);
+  impl_->plan = plan;
+}
+
+const dsp::ExposurePlan& Simulator::exposure() const { return impl_->plan; }
+
+void Simulator::render(std::int64_t index, const dsp::ExposurePlan& plan, SimFrame& out) {
+  check_plan(plan, impl_->config.fps);
+  if (index < 0) throw std::invalid_argument("simulator: frame index must be >= 0");
+  impl_->render(index, plan, out);
+}
+
+const SimulatorConfig& Simulator::config() const { return impl_->config; }
+std::size_t Simulator::frame_count() const { return impl_->frames; }
+const sim::Trajectory& Simulator::trajectory() const { return impl_->trajectory; }
+double Simulator::run_gain_dn_per_e() const { return impl_->gain; }
+const sim::RenderStats& Simulator::last_render_stats() const { return impl_->stats; }
+
+}  // namespace gvs::drivers

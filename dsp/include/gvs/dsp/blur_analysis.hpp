@@ -1,0 +1,105 @@
+// Single-frame motion analysis from the power spectrum P(k) = |F(k)|^2 of a
+// windowed frame (WindowedSpectrum):
+//
+//  - streak_axis():   the axis of the motion blur (orientation of P(k)).
+//  - streak_length(): the length of the streak along that axis.
+//  - double_image():  the displacement between the two images of a double pulse.
+//
+// All three see the motion only up to its sign: a streak or a pair of images
+// looks the same whether the ground moved forwards or backwards.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+namespace gvs::dsp {
+
+/// Axis of motion in image axes (unit vector (u_row, u_col), sign arbitrary).
+struct StreakAxis {
+  double u_row = 1.0;
+  double u_col = 0.0;
+  /// (l1 - l2)/(l1 + l2) of the spectral second moments: 0 = isotropic
+  /// (no blur, or noise only), -> 1 = long streaks.
+  double anisotropy = 0.0;
+  /// sum (P - N0) / sum N0 over the band: texture power over sensor noise.
+  double texture_snr = 0.0;
+};
+
+/// Streak (blur) length L, from the negative peak of the autocorrelation of
+/// the derivative along the axis at lag +-L (see blur_length.cpp).
+struct StreakLength {
+  bool found = false;
+  double length_px = 0.0;
+  double d_row_px = 0.0;  ///< the lag of the peak: L times the (refined) axis
+  double d_col_px = 0.0;
+  double depth = 0.0;     ///< -A(L)/A(0); ~0.5 for an ideal streak, ~0 when absent
+  /// -A(L) over the typical |A| along the rest of the axis: how far the
+  /// streak end stands out of the texture and noise (a streak longer than the
+  /// frame leaves only noise, with "peaks" as deep but not standing out).
+  double significance = 0.0;
+  double background = 0.0;  ///< that typical |A| over A(0): ~0.04 with a clean streak, >0.1 without
+};
+
+/// Displacement between the two images of a double exposure, from the side
+/// peak of the image autocorrelation at lag +-d (see double_pulse.cpp).
+struct DoubleImage {
+  bool found = false;
+  double d_row_px = 0.0;  ///< sign arbitrary (d or -d)
+  double d_col_px = 0.0;
+  double height = 0.0;    ///< side peak over the central peak: ab/(a^2+b^2) <= 0.5 ideally
+  double second_ratio = 0.0; ///< next-highest side peak over the chosen one
+  /// Third-order asymmetry, the sign test for unequal pulse energies:
+  ///   C3(t) = mean(f(x)^2 f(x+t)),  f = grey - mean.
+  /// For f = a s(x) + b s(x - d) (first image a, second b, texture s of
+  /// skewness k3): C3(+d) - C3(-d) = a b (a - b) k3, and mean(f^3) has the
+  /// sign of k3. So
+  ///   asymmetry = sign(mean f^3) (C3(+d) - C3(-d)) / (|C3(+d)| + |C3(-d)|)
+  /// is > 0 when d points from the stronger image to the weaker one.
+  /// Filled by double_image_asymmetry().
+  double asymmetry = 0.0;
+  double skewness = 0.0;  ///< mean(f^3)/mean(f^2)^1.5 of the frame (how much to trust asymmetry)
+};
+
+class BlurAnalyzer {
+ public:
+  explicit BlurAnalyzer(cv::Size size);
+
+  /// White-noise power per bin (temporal and fixed-pattern noise), measured
+  /// beyond the band (|k| > 2.7 rad/px) where the optics leave no texture.
+  /// The building blocks below use P(k) - N0 (not clipped at 0: clipping
+  /// would leave a third of the noise in).
+  [[nodiscard]] double noise_floor(const cv::Mat& spectrum) const;
+
+  [[nodiscard]] StreakAxis streak_axis(const cv::Mat& spectrum) const;
+
+  /// Refines `start` by moments of the energy within ~sigma (rad/px) of the
+  /// line k.u = 0 only (see blur_orientation.cpp). Keeps start's anisotropy.
+  [[nodiscard]] StreakAxis refine_axis(const cv::Mat& spectrum, const StreakAxis& start,
+                                       double sigma, int iterations) const;
+
+  /// Searches min_px <= L <= max_px along `axis`.
+  StreakLength streak_length(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
+                             double max_px);
+
+  /// Searches min_px <= |d| <= max_px in every direction.
+  DoubleImage double_image(const cv::Mat& spectrum, double min_px, double max_px);
+
+  /// The last autocorrelation surface (CV_32F, lag 0 at (0,0), periodic).
+  [[nodiscard]] const cv::Mat& surface() const { return surface_; }
+
+ private:
+  std::vector<double> k_row_;
+  std::vector<double> k_col_;
+  cv::Mat band_;     ///< CV_32F band-pass weight per bin
+  cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0)
+  cv::Mat surface_;  ///< CV_32F autocorrelation
+  std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
+};
+
+/// Fills `pair.asymmetry` from the image itself (the sign test for unequal
+/// pulse energies; see DoubleImage::asymmetry). `gray` is the frame.
+void double_image_asymmetry(const cv::Mat& gray, DoubleImage& pair);
+
+}  // namespace gvs::dsp

@@ -1,0 +1,68 @@
+// Exposure control: choose the next frame's exposure / LED strobe plan from
+// the latest velocity estimate. A pure function (no state, no clock): the
+// caller keeps the current plan and feeds back what it gets.
+//
+// Why: a ground point moves v/s pixels per second (s = metres per pixel).
+// During a light time T it smears into a streak of L = v*T/s pixels. The
+// estimator measures speed from L only while 10 px <= L <= 80 px or so
+// (adaptive mode; below ~20 px the texture grain biases the length), or from the displacement d = v*dt_pulses/s between the two
+// images of a double pulse (double_pulse mode). So T (or dt_pulses) must
+// follow the speed: T = L_target * s / v.
+#pragma once
+
+#include "gvs/dsp/estimate.hpp"
+#include "gvs/dsp/frame.hpp"
+
+namespace gvs::dsp {
+
+enum class ExposureMode {
+  fixed,        ///< keep the current plan unchanged
+  adaptive,     ///< one continuous strobe whose length keeps the streak ~10-80 px
+  double_pulse  ///< two short pulses; their double image gives the displacement (PIV-like)
+};
+
+/// What the hardware and the optics allow, and what the estimator wants.
+struct ExposureLimits {
+  double mm_per_px = 0.1;              ///< ground sampling distance
+  double frame_period_us = 16666.7;    ///< 1/fps: no exposure may be longer
+  double max_exposure_us = 3000.0;     ///< longest continuous exposure (low speed, standstill)
+  double min_pulse_us = 2.0;           ///< shortest LED pulse the driver can fire
+  // adaptive (single strobe)
+  double target_streak_px = 50.0;      ///< streak length aimed at when re-planning
+  double min_streak_px = 25.0;         ///< re-plan when the predicted streak leaves
+  double max_streak_px = 80.0;         ///<   [min_streak_px, max_streak_px] (hysteresis band)
+  // double pulse
+  double target_shift_px = 100.0;      ///< displacement between the two images aimed at
+  double min_shift_px = 50.0;          ///< re-plan when the predicted displacement leaves
+  double max_shift_px = 150.0;         ///<   [min_shift_px, max_shift_px]
+  double max_pulse_blur_px = 2.0;      ///< streak allowed within one pulse
+  double second_pulse_energy = 1.0;    ///< energy (duration) of pulse 2 relative to pulse 1
+  /// Below this speed double_pulse mode uses a continuous max_exposure_us
+  /// exposure instead (consecutive frames overlap and pair correlation wins).
+  double double_pulse_min_speed_mps = 1.5;
+  /// Estimates below this quality do not change the plan.
+  double min_quality = 0.3;
+};
+
+/// The plan for the next frame.
+///  - fixed: returns `current`.
+///  - adaptive: continuous exposure (pulse_count 0) of T = target_streak_px*s/v,
+///    clamped to [min_pulse_us, max_exposure_us]; unchanged while the streak
+///    predicted for `current` stays within [min_streak_px, max_streak_px].
+///    A direction without speed from a streak too long to measure (method
+///    "streak-*") shortens T by 4x.
+///  - double_pulse: two pulses {0, p} and {dt, p*second_pulse_energy}, dt =
+///    target_shift_px*s/v, p = max_pulse_blur_px*s/v (>= min_pulse_us);
+///    unchanged while the predicted displacement stays within
+///    [min_shift_px, max_shift_px]; below double_pulse_min_speed_mps a
+///    continuous max_exposure_us exposure.
+/// A standstill returns to a continuous max_exposure_us exposure; without a
+/// usable estimate (quality 0, no speed, no direction) the plan is kept.
+ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& current,
+                           ExposureMode mode, const ExposureLimits& limits);
+
+/// Parses "fixed", "adaptive", "double-pulse" (also "double_pulse"). Returns
+/// false for anything else (the caller names the allowed values).
+bool parse_exposure_mode(const char* text, ExposureMode& mode);
+
+}  // namespace gvs::dsp

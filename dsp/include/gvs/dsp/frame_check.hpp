@@ -1,0 +1,27 @@
+// Is there anything to measure in a frame? Dark, saturated and featureless
+// frames give no estimate (quality 0, method names the reason).
+#pragma once
+
+#include <opencv2/core/mat.hpp>
+
+namespace gvs::dsp {
+
+/// Grey-level statistics of one 8-bit frame (every 2nd pixel of every 2nd row).
+struct FrameStats {
+  double mean_grey = 0.0;
+  double contrast_grey = 0.0;       ///< standard deviation of the unsaturated pixels
+  double saturated_fraction = 0.0;  ///< pixels at 255
+};
+
+struct FrameCheckLimits {
+  double dark_mean_grey = 2.0;         ///< below: "dark"
+  double max_saturated_fraction = 0.6; ///< above: "saturated"
+  double min_contrast_grey = 0.8;      ///< below: "no-texture" (or "dark" when the mean is low too)
+};
+
+FrameStats measure_frame(const cv::Mat& gray);
+
+/// nullptr when the frame is usable, else the reason: "dark", "saturated", "no-texture".
+const char* frame_problem(const FrameStats& stats, const FrameCheckLimits& limits = {});
+
+}  // namespace gvs::dsp

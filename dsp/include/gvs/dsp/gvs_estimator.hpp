@@ -1,0 +1,147 @@
+// The product estimator, method "gvs": picks per frame the measurement the
+// physics allows (docs/estimator.md).
+//
+//   still       consecutive frames identical up to noise: speed 0
+//   pair        consecutive frames overlap (slow): phase correlation of two
+//               half-frame windows -> shift (velocity, sign included) and the
+//               difference of their shifts -> yaw rate
+//   blur-*      one frame: streak axis (power spectrum orientation) and, when
+//               the streak fits in the frame, its length (derivative
+//               autocorrelation) -> direction up to sign, and speed
+//   streak-*    as blur-*, but the streak is too long to measure: direction only
+//   dpiv-*      double-pulse frame: displacement between the two images
+//               (autocorrelation side peak) -> velocity up to sign
+// The suffix says what decided the sign: -cont (continuity with the previous
+// estimate), -energy (unequal pulse energies), -fwd (no history: forward assumed).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "gvs/dsp/blur_analysis.hpp"
+#include "gvs/dsp/estimator.hpp"
+#include "gvs/dsp/frame_check.hpp"
+#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/phase_correlation.hpp"
+#include "gvs/dsp/spectrum.hpp"
+
+namespace gvs::dsp {
+
+struct GvsEstimatorSettings {
+  FrameCheckLimits frame_check;
+  // Standstill: mean squared frame difference over twice the frame variance.
+  double still_ratio = 0.12;
+  // Pair <-> single-frame switching on the expected shift between frames (px),
+  // with hysteresis: leave pair mode above the first, come back below the second.
+  double pair_leave_shift_px = 185.0;
+  double pair_enter_shift_px = 150.0;
+  double pair_max_shift_px = 200.0;
+  double pair_exclude_px = 3.0;      ///< fixed-pattern noise peak at lag 0 (and its spread)
+  double pair_min_peak_to_rms = 7.0; ///< below: no match
+  double pair_min_quality = 0.3;     ///< below: the pair is not used
+  double max_accel_mps2 = 20.0;      ///< clamp of the half-frame lag compensation
+  // Single-frame blur.
+  double min_anisotropy = 0.12;      ///< below: no streak axis
+  double min_texture_snr = 0.3;      ///< band power above the noise floor over the noise: below, "no-texture"
+  double good_texture_snr = 5.0;     ///< full quality from here (normal light: 20-70)
+  double refine_min_anisotropy = 0.9; ///< long streaks: refine the axis on the spectral line
+  double long_streak_anisotropy = 0.96;///< no speed and above: "streak-*" (too long), else "blur-*"
+  double refine_sigma = 0.05;        ///< rad/px, half-width of the line used
+  double min_streak_px = 20.0;       ///< shorter streaks: length not measured (texture grain biases it)
+  double min_streak_px_cold = 30.0;  ///< ... without a recent speed
+  double max_streak_background = 0.07;
+  double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
+  double min_streak_depth = 0.06;
+  double min_streak_significance = 3.5;       ///< streak end over the ray's RMS
+  double min_streak_significance_cold = 6.0;  ///< without a previous speed to check against
+  // Double pulse.
+  double min_double_height = 0.05;
+  double max_double_second = 0.8;
+  double min_energy_confidence = 0.15;  ///< |asymmetry| needed to use it for the sign
+  // Sign continuity: the previous direction is trusted this long.
+  double continuity_max_age_s = 0.5;
+};
+
+class GvsEstimator final : public VelocityEstimator {
+ public:
+  explicit GvsEstimator(const EstimatorConfig& config, const GvsEstimatorSettings& settings = {});
+  ~GvsEstimator() override;
+
+  VelocityEstimate estimate(const FrameView& frame) override;
+  void reset() override;
+
+ private:
+  enum class Mode { pair, single };
+  enum class SignSource { continuity, energy, forward };
+
+  VelocityEstimate estimate_pair(const FrameView& frame, std::int64_t t_mid_ns, double dt_s);
+  VelocityEstimate estimate_single(const FrameView& frame, std::int64_t t_mid_ns);
+  VelocityEstimate estimate_double(const FrameView& frame, std::int64_t t_mid_ns);
+  void update_mode(double dt_s);
+  void learn_column_pattern(const cv::Mat& gray, double mean_grey);
+  [[nodiscard]] const float* column_pattern() const;
+  bool is_still(const cv::Mat& gray, double& ratio) const;
+  /// Chooses the sign (+1/-1) of a unit axis in vehicle axes: continuity with
+  /// the previous direction, else the pulse-energy vote, else forwards.
+  SignSource resolve_sign(Vec2 axis_vehicle, std::int64_t t_mid_ns, double energy_vote,
+                          double& sign) const;
+  void remember(const FrameView& frame, std::int64_t t_mid_ns, const VelocityEstimate& e);
+
+  CameraGeometry cam_;
+  GvsEstimatorSettings set_;
+  cv::Size size_;
+  cv::Rect left_;   ///< half windows for pair correlation and yaw
+  cv::Rect right_;
+
+  WindowedSpectrum full_spectrum_;
+  WindowedSpectrum half_spectrum_;
+  PhaseCorrelator half_correlator_;
+  BlurAnalyzer blur_;
+
+  cv::Mat spec_full_;
+  cv::Mat spec_left_[2];
+  cv::Mat spec_right_[2];
+  int cur_ = 0;  ///< index of the current half spectra; 1 - cur_ holds the previous frame's
+  bool prev_halves_valid_ = false;
+  bool halves_this_frame_ = false;
+  double cur_mean_grey_ = 0.0;
+  double last_axis_anisotropy_ = 1.0;  ///< of the last single-frame analysis
+  // Column fixed-pattern noise, learnt while the texture changes completely
+  // from frame to frame (fast: single-frame mode), so the texture averages out.
+  std::vector<float> column_pattern_;
+  std::vector<double> column_sum_;
+  int column_frames_ = 0;
+  cv::Mat prev_gray_;
+  bool prev_valid_ = false;
+  bool prev_double_ = false;
+  double prev_lit_us_ = 0.0;
+  std::int64_t prev_t_mid_ns_ = 0;
+  double prev_mean_grey_ = 0.0;
+
+  Mode mode_ = Mode::pair;
+  VelocityEstimate last_;            ///< previous output
+  bool last_valid_ = false;
+  std::int64_t last_direction_t_ns_ = 0;
+  Vec2 last_direction_{1.0, 0.0};    ///< unit vector, vehicle axes
+  bool has_last_direction_ = false;
+  /// The last direction's sign was measured (pair, pulse energies, or
+  /// continuity from a measured one), not assumed (forward prior).
+  bool last_sign_known_ = false;
+  bool sign_known_now_ = false;
+  bool has_last_speed_ = false;       ///< last measured speed (streak-length gate)
+  double last_speed_mps_ = 0.0;
+  std::int64_t last_speed_index_ = 0;
+  std::int64_t last_speed_t_ns_ = 0;
+  Vec2 last_pair_v_{};               ///< previous raw pair velocity (lag compensation)
+  bool last_pair_valid_ = false;
+};
+
+/// Fills direction (and vx, vy, speed when `with_speed`) from a vehicle-axes velocity.
+void set_velocity(VelocityEstimate& e, Vec2 v, bool with_speed);
+
+/// Factory entry for the "gvs" method.
+std::unique_ptr<VelocityEstimator> make_gvs_estimator(const EstimatorConfig& config);
+
+}  // namespace gvs::dsp

@@ -1,0 +1,39 @@
+// The windowed Fourier spectrum every frequency-domain building block starts
+// from, and the frequency grid that goes with it.
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+namespace gvs::dsp {
+
+/// Spectrum F(k) of a mean-removed, Hann-windowed image:
+///   f(x) = (g(x) - m) * w(x),  m = sum(g w) / sum(w),  F = DFT(f)
+/// The window stops the frame borders from leaking a false "+" into the
+/// spectrum (which would pull orientations towards 0/90 deg). Buffers are
+/// made once; compute() does not allocate for images of the configured size.
+class WindowedSpectrum {
+ public:
+  explicit WindowedSpectrum(cv::Size size);
+
+  /// `gray`: CV_8UC1 of the configured size (use a ROI for sub-windows).
+  /// `spectrum`: full complex spectrum, CV_32FC2, same size.
+  /// `column_offsets` (optional, one per column, grey levels) are subtracted
+  /// first: the sensor's column fixed-pattern noise, which otherwise looks
+  /// exactly like an endless streak along the columns.
+  void compute(const cv::Mat& gray, cv::Mat& spectrum, const float* column_offsets = nullptr);
+
+  [[nodiscard]] cv::Size size() const { return size_; }
+
+ private:
+  cv::Size size_;
+  cv::Mat window_;  ///< CV_32F Hann window
+  cv::Mat work_;    ///< CV_32F windowed image
+  double window_sum_ = 0.0;
+};
+
+/// Angular frequency (rad/px) of DFT bin i of n: 2*pi*i/n, wrapped to [-pi, pi).
+std::vector<double> angular_frequencies(int n);
+
+}  // namespace gvs::dsp

@@ -1,0 +1,134 @@
+// Displacement between the two images of a double-pulse exposure (PIV-like).
+//
+// Two short light pulses dt apart expose the ground twice:
+//   g(x) = a s(x) + b s(x - d),  d = v dt / s_px  (image motion between pulses).
+// Its autocorrelation is
+//   R_g(t) = (a^2 + b^2) R_s(t) + a b (R_s(t - d) + R_s(t + d)),
+// so side peaks at t = +-d give the displacement (Adrian 1991, PIV by
+// autocorrelation). Weighting P(k) by |k|^2 (the autocorrelation of the
+// gradient) sharpens the peaks to the texture's grain size.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <opencv2/core.hpp>
+
+#include "gvs/dsp/blur_analysis.hpp"
+#include "peak_fit.hpp"
+
+namespace gvs::dsp {
+
+DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, double max_px) {
+  DoubleImage out;
+  const double n0 = noise_floor(spectrum);
+  for (int r = 0; r < spectrum.rows; ++r) {
+    const double kr = k_row_[static_cast<std::size_t>(r)];
+    const auto* f = spectrum.ptr<cv::Vec2f>(r);
+    const float* w = band_.ptr<float>(r);
+    auto* p = power_.ptr<cv::Vec2f>(r);
+    for (int c = 0; c < spectrum.cols; ++c) {
+      const double kc = k_col_[static_cast<std::size_t>(c)];
+      const double pw = static_cast<double>(w[c]) *
+          (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
+      p[c] = cv::Vec2f(static_cast<float>(pw * (kr * kr + kc * kc)), 0.0f);
+    }
+  }
+  cv::dft(power_, surface_, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
+  const double a0 = static_cast<double>(surface_.at<float>(0, 0));
+  if (a0 <= 0.0) return out;
+
+  // Highest side peak in the half plane (the surface is even: A(-t) = A(t)).
+  const int rows = surface_.rows;
+  const int cols = surface_.cols;
+  const int rmax = std::min(rows / 2 - 2, static_cast<int>(max_px));
+  const int cmax = std::min(cols / 2 - 2, static_cast<int>(max_px));
+  const double mn2 = min_px * min_px;
+  const double mx2 = max_px * max_px;
+  double best = -1e30;
+  int best_r = 0;
+  int best_c = 0;
+  for (int dr = 0; dr <= rmax; ++dr) {
+    for (int dc = -cmax; dc <= cmax; ++dc) {
+      if (dr == 0 && dc <= 0) continue;
+      const double d2 = static_cast<double>(dr * dr + dc * dc);
+      if (d2 < mn2 || d2 > mx2) continue;
+      const double v = detail::at_lag(surface_, dr, dc);
+      if (v > best) {
+        best = v;
+        best_r = dr;
+        best_c = dc;
+      }
+    }
+  }
+  if (best <= 0.0) return out;
+  double second = 0.0;
+  for (int dr = 0; dr <= rmax; ++dr) {
+    for (int dc = -cmax; dc <= cmax; ++dc) {
+      if (dr == 0 && dc <= 0) continue;
+      const double d2 = static_cast<double>(dr * dr + dc * dc);
+      if (d2 < mn2 || d2 > mx2) continue;
+      const int er = dr - best_r;
+      const int ec = dc - best_c;
+      if (er * er + ec * ec <= 25) continue;
+      // Also skip the mirror of the peak (it can reappear near dr = 0).
+      const int mr = dr + best_r;
+      const int mc = dc + best_c;
+      if (mr * mr + mc * mc <= 25) continue;
+      second = std::max(second, detail::at_lag(surface_, dr, dc));
+    }
+  }
+  const detail::SubPixel p = detail::fit_extremum_3x3(surface_, best_r, best_c);
+  out.found = true;
+  out.d_row_px = p.d_row;
+  out.d_col_px = p.d_col;
+  out.height = best / a0;
+  out.second_ratio = second / best;
+  return out;
+}
+
+void double_image_asymmetry(const cv::Mat& gray, DoubleImage& pair) {
+  pair.asymmetry = 0.0;
+  pair.skewness = 0.0;
+  if (!pair.found || gray.empty()) return;
+  const int dr = static_cast<int>(std::lround(pair.d_row_px));
+  const int dc = static_cast<int>(std::lround(pair.d_col_px));
+  const int r_lo = std::abs(dr);
+  const int r_hi = gray.rows - std::abs(dr);
+  const int c_lo = std::abs(dc);
+  const int c_hi = gray.cols - std::abs(dc);
+  if (r_hi - r_lo < 16 || c_hi - c_lo < 16) return;
+  double sum = 0.0;
+  std::int64_t n = 0;
+  for (int r = r_lo; r < r_hi; r += 2) {
+    const auto* g = gray.ptr<std::uint8_t>(r);
+    for (int c = c_lo; c < c_hi; c += 2) {
+      sum += g[c];
+      ++n;
+    }
+  }
+  const double m = sum / static_cast<double>(n);
+  double c3_plus = 0.0;
+  double c3_minus = 0.0;
+  double m2 = 0.0;
+  double m3 = 0.0;
+  for (int r = r_lo; r < r_hi; r += 2) {
+    const auto* g = gray.ptr<std::uint8_t>(r);
+    const auto* gp = gray.ptr<std::uint8_t>(r + dr);
+    const auto* gm = gray.ptr<std::uint8_t>(r - dr);
+    for (int c = c_lo; c < c_hi; c += 2) {
+      const double f = g[c] - m;
+      const double f2 = f * f;
+      c3_plus += f2 * (gp[c + dc] - m);
+      c3_minus += f2 * (gm[c - dc] - m);
+      m2 += f2;
+      m3 += f2 * f;
+    }
+  }
+  const double denom = std::abs(c3_plus) + std::abs(c3_minus);
+  const double nn = static_cast<double>(n);
+  if (denom <= 0.0 || m2 <= 0.0) return;
+  pair.skewness = (m3 / nn) / std::pow(m2 / nn, 1.5);
+  pair.asymmetry = (m3 >= 0.0 ? 1.0 : -1.0) * (c3_plus - c3_minus) / denom;
+}
+
+}  // namespace gvs::dsp

@@ -1,0 +1,141 @@
+// Exposure control (see exposure_control.hpp for the physics).
+#include "gvs/dsp/exposure_control.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <string_view>
+
+namespace gvs::dsp {
+
+namespace {
+
+/// Image speed in pixels per microsecond for a ground speed in m/s.
+double px_per_us(double speed_mps, const ExposureLimits& lim) {
+  return speed_mps / (lim.mm_per_px * 1e-3) * 1e-6;
+}
+
+ExposurePlan continuous(double exposure_us) {
+  ExposurePlan p;
+  p.exposure_us = exposure_us;
+  p.pulse_count = 0;
+  return p;
+}
+
+/// Centre-to-centre time between the first two pulses (0 if not a double pulse).
+double pulse_separation_us(const ExposurePlan& p) {
+  if (p.pulse_count < 2) return 0.0;
+  const double c0 = p.pulses[0].start_us + p.pulses[0].duration_us / 2.0;
+  const double c1 = p.pulses[1].start_us + p.pulses[1].duration_us / 2.0;
+  return c1 - c0;
+}
+
+ExposurePlan double_pulse_plan(double separation_us, double pulse_us, const ExposureLimits& lim) {
+  const double p2 = std::max(lim.min_pulse_us, pulse_us * lim.second_pulse_energy);
+  // Both pulses and their separation must fit in one frame period.
+  const double max_sep = 0.9 * lim.frame_period_us - pulse_us - p2;
+  const double sep = std::clamp(separation_us, 2.0 * std::max(pulse_us, p2), max_sep);
+  ExposurePlan plan;
+  plan.pulse_count = 2;
+  plan.pulses[0] = {0.0, pulse_us};
+  // Centres sep apart: start2 + p2/2 = sep + pulse/2.
+  plan.pulses[1] = {sep + pulse_us / 2.0 - p2 / 2.0, p2};
+  plan.exposure_us = plan.pulses[1].start_us + p2;
+  return plan;
+}
+
+/// The estimator saw streaks too long to measure (direction only).
+bool streak_too_long(const VelocityEstimate& e) {
+  return e.has_direction && !e.has_speed && std::string_view(e.method).starts_with("streak");
+}
+
+bool is_still(const VelocityEstimate& e) {
+  return e.has_speed && e.speed_mps < VelocityEstimate::kStandstillMps;
+}
+
+ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& current,
+                           const ExposureLimits& lim) {
+  const double t_cur = current.pulse_count == 0 ? current.exposure_us : current.lit_time_us();
+  if (is_still(latest)) return continuous(lim.max_exposure_us);
+  if (latest.quality < lim.min_quality) return current;
+  if (latest.has_speed) {
+    const double v = px_per_us(latest.speed_mps, lim);
+    const double streak_now = v * t_cur;  // L = v*T/s
+    const bool single = current.pulse_count <= 1;
+    const bool in_band = streak_now >= lim.min_streak_px && streak_now <= lim.max_streak_px;
+    const bool pinned_long = streak_now < lim.min_streak_px && t_cur >= lim.max_exposure_us;
+    const bool pinned_short = streak_now > lim.max_streak_px && t_cur <= lim.min_pulse_us;
+    if (single && (in_band || pinned_long || pinned_short)) return current;
+    const double t_new = lim.target_streak_px / std::max(v, 1e-12);
+    return continuous(std::clamp(t_new, lim.min_pulse_us, lim.max_exposure_us));
+  }
+  if (streak_too_long(latest)) {
+    // Direction without speed: the streak outgrew the frame. Shorten hard.
+    return continuous(std::clamp(t_cur / 4.0, lim.min_pulse_us, lim.max_exposure_us));
+  }
+  return current;
+}
+
+ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePlan& current,
+                               const ExposureLimits& lim) {
+  if (is_still(latest)) return continuous(lim.max_exposure_us);
+  if (latest.quality < lim.min_quality) return current;
+  if (latest.has_speed) {
+    if (latest.speed_mps < lim.double_pulse_min_speed_mps) {
+      return continuous(lim.max_exposure_us);
+    }
+    const double v = px_per_us(latest.speed_mps, lim);
+    const double pulse_us = std::max(lim.min_pulse_us, lim.max_pulse_blur_px / v);
+    if (current.pulse_count >= 2) {
+      const double shift_now = v * pulse_separation_us(current);  // d = v*dt/s
+      const double blur_now = v * current.pulses[0].duration_us;
+      const bool shift_ok = shift_now >= lim.min_shift_px && shift_now <= lim.max_shift_px;
+      const bool blur_ok = blur_now <= 1.5 * lim.max_pulse_blur_px &&
+                           (blur_now >= 0.5 * lim.max_pulse_blur_px ||
+                            current.pulses[0].duration_us <= lim.min_pulse_us * 1.01);
+      if (shift_ok && blur_ok) return current;
+    }
+    return double_pulse_plan(lim.target_shift_px / v, pulse_us, lim);
+  }
+  if (streak_too_long(latest) || (latest.has_direction && !latest.has_speed && current.pulse_count >= 2)) {
+    // Direction without speed: streak or displacement too long.
+    if (current.pulse_count >= 2) {
+      return double_pulse_plan(pulse_separation_us(current) / 3.0, current.pulses[0].duration_us,
+                               lim);
+    }
+    const double v_guess = px_per_us(30.0, lim);  // assume fast: 108 km/h
+    return double_pulse_plan(lim.target_shift_px / v_guess,
+                             std::max(lim.min_pulse_us, lim.max_pulse_blur_px / v_guess), lim);
+  }
+  return current;
+}
+
+}  // namespace
+
+ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& current,
+                           ExposureMode mode, const ExposureLimits& limits) {
+  switch (mode) {
+    case ExposureMode::fixed:
+      return current;
+    case ExposureMode::adaptive:
+      return next_adaptive(latest, current, limits);
+    case ExposureMode::double_pulse:
+      return next_double_pulse(latest, current, limits);
+  }
+  return current;
+}
+
+bool parse_exposure_mode(const char* text, ExposureMode& mode) {
+  if (text == nullptr) return false;
+  if (std::strcmp(text, "fixed") == 0) {
+    mode = ExposureMode::fixed;
+  } else if (std::strcmp(text, "adaptive") == 0) {
+    mode = ExposureMode::adaptive;
+  } else if (std::strcmp(text, "double-pulse") == 0 || std::strcmp(text, "double_pulse") == 0) {
+    mode = ExposureMode::double_pulse;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace gvs::dsp

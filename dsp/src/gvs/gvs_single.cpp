@@ -1,0 +1,154 @@
+// One-frame measurements: a blurred frame (streak axis and length) and a
+// double-pulse frame (displacement between its two images). Both give the
+// axis of motion only; resolve_sign() picks forwards or backwards.
+#include <algorithm>
+#include <cmath>
+
+#include "gvs/dsp/gvs_estimator.hpp"
+
+namespace gvs::dsp {
+
+namespace {
+
+Vec2 unit(Vec2 v) {
+  const double n = std::hypot(v.x, v.y);
+  return n > 0.0 ? Vec2{v.x / n, v.y / n} : Vec2{1.0, 0.0};
+}
+
+const char* method_name(const char* const names[3], int source) { return names[source]; }
+
+double sign_quality(int source) {
+  constexpr double kQ[3] = {1.0, 0.7, 0.3};  // continuity, energy, forward prior
+  return kQ[source];
+}
+
+}  // namespace
+
+VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int64_t t_mid_ns) {
+  static constexpr const char* kNames[3] = {"blur-cont", "blur-energy", "blur-fwd"};
+  // Direction only, because the streak is longer than we can measure.
+  static constexpr const char* kLongNames[3] = {"streak-cont", "streak-energy", "streak-fwd"};
+  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, "no-match");
+  full_spectrum_.compute(frame.gray, spec_full_, column_pattern());
+  StreakAxis axis = blur_.streak_axis(spec_full_);
+  last_axis_anisotropy_ = axis.anisotropy;
+  if (axis.texture_snr < set_.min_texture_snr) {
+    e.method = "no-texture";
+    return e;
+  }
+  if (axis.anisotropy < set_.min_anisotropy) return e;
+  if (axis.anisotropy >= set_.refine_min_anisotropy) {
+    axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2);
+  }
+
+  // Longest streak we can measure: a fraction of the frame extent along the axis.
+  const double extent = std::abs(axis.u_row) * size_.height + std::abs(axis.u_col) * size_.width;
+  const double max_px = set_.max_streak_fraction * extent;
+  const double t_s = frame.exposure.lit_time_us() * 1e-6;
+  const double m_per_px = cam_.mm_per_px * 1e-3;
+  // Where to look for the streak end: around L = v T / s from the last
+  // measured speed (up to 10 frames old, widened for +-max_accel), because the
+  // texture's own grain can mimic a streak end; everywhere, with a stricter
+  // significance, without a recent speed.
+  double lo = set_.min_streak_px;
+  double hi = max_px;
+  double min_significance = set_.min_streak_significance;
+  const std::int64_t age = frame.index - last_speed_index_;
+  double min_length = set_.min_streak_px;
+  if (has_last_speed_ && age >= 1 && age <= 3) {
+    const double age_s = static_cast<double>(t_mid_ns - last_speed_t_ns_) * 1e-9;
+    const double slack_mps = set_.max_accel_mps2 * age_s;
+    const double v_lo = std::max(0.0, 0.85 * last_speed_mps_ - slack_mps);
+    const double v_hi = 1.15 * last_speed_mps_ + slack_mps;
+    lo = std::max(lo, v_lo * t_s / m_per_px - 2.0);
+    hi = std::min(hi, v_hi * t_s / m_per_px + 2.0);
+  } else {
+    min_significance = set_.min_streak_significance_cold;
+    min_length = set_.min_streak_px_cold;
+  }
+  StreakLength len;
+  if (hi > lo + 2.0) len = blur_.streak_length(spec_full_, axis, lo, hi);
+  // Without a recent speed, the length must also agree with how elongated the
+  // spectrum is (anisotropy grows with L: ~0.85 at 40 px, ~0.97 at 150 px on
+  // asphalt): a short "streak end" in a spectrum of endless streaks is texture.
+  const bool cold = min_length >= set_.min_streak_px_cold;
+  const bool consistent = !cold || axis.anisotropy < 0.93 + 0.0003 * len.length_px;
+  const bool has_speed = consistent && len.found && len.depth >= set_.min_streak_depth &&
+                         len.significance >= min_significance &&
+                         len.background <= set_.max_streak_background &&
+                         len.length_px >= min_length && len.length_px > lo + 0.5 &&
+                         len.length_px < hi - 0.5;
+
+  // Axis: the streak-length peak lag is the sharper estimate once the streak is long.
+  double u_row = axis.u_row;
+  double u_col = axis.u_col;
+  if (has_speed && len.length_px >= 20.0) {
+    u_row = len.d_row_px / len.length_px;
+    u_col = len.d_col_px / len.length_px;
+  }
+  const Vec2 a = unit(image_shift_to_velocity(u_row, u_col, 1.0, cam_));
+  double sign = 1.0;
+  const auto source = static_cast<int>(resolve_sign(a, t_mid_ns, 0.0, sign));
+  sign_known_now_ = source == 0 ? last_sign_known_ : source == 1;
+
+  // L = v T / s  =>  v = L s / T  (T: the time light reached the sensor).
+  const double speed = has_speed ? len.length_px * m_per_px / t_s : 0.0;
+  if (has_speed) {
+    set_velocity(e, {sign * a.x * speed, sign * a.y * speed}, true);
+  } else {
+    e.has_direction = true;  // the streak outgrew the frame: direction only
+    e.direction_deg = direction_deg({sign * a.x, sign * a.y});
+  }
+
+  // Quality: how elongated the spectrum is (direction), how deep the streak
+  // edge is (speed), and how the sign was decided.
+  const double q_dir = std::clamp((axis.anisotropy - set_.min_anisotropy) / 0.3, 0.05, 1.0);
+  const double q_len = has_speed ? std::clamp(len.depth / 0.25, 0.05, 1.0) : 1.0;
+  // Texture power over sensor noise: under-exposed long streaks leave little
+  // texture, and the column pattern of the sensor then pulls the axis.
+  const double q_snr = std::clamp(axis.texture_snr / set_.good_texture_snr, 0.02, 1.0);
+  e.quality = q_dir * q_len * q_snr * sign_quality(source);
+  const bool too_long = !has_speed && axis.anisotropy >= set_.long_streak_anisotropy;
+  e.method = method_name(too_long ? kLongNames : kNames, source);
+  return e;
+}
+
+VelocityEstimate GvsEstimator::estimate_double(const FrameView& frame, std::int64_t t_mid_ns) {
+  static constexpr const char* kNames[3] = {"dpiv-cont", "dpiv-energy", "dpiv-fwd"};
+  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, "no-match");
+  last_pair_valid_ = false;
+  full_spectrum_.compute(frame.gray, spec_full_);
+  const double max_px = 0.45 * std::min(size_.width, size_.height);
+  DoubleImage pair = blur_.double_image(spec_full_, 4.0, max_px);
+  if (!pair.found || pair.height < set_.min_double_height ||
+      pair.second_ratio > set_.max_double_second) {
+    return e;
+  }
+  // Pulse centres c1, c2; the displacement d spans dt = c2 - c1.
+  const LightPulse& p1 = frame.exposure.pulses[0];
+  const LightPulse& p2 = frame.exposure.pulses[1];
+  const double dt_s = ((p2.start_us + p2.duration_us / 2.0) - (p1.start_us + p1.duration_us / 2.0)) * 1e-6;
+  if (!(dt_s > 0.0)) return e;
+
+  // Unequal energies: the third-order asymmetry says which way d points
+  // (> 0: from the stronger image to the weaker one).
+  double energy_vote = 0.0;
+  const double energy_contrast = (p1.duration_us - p2.duration_us) / (p1.duration_us + p2.duration_us);
+  if (std::abs(energy_contrast) > 0.1) {
+    double_image_asymmetry(frame.gray, pair);
+    if (std::abs(pair.skewness) > 0.1) energy_vote = energy_contrast > 0.0 ? pair.asymmetry : -pair.asymmetry;
+  }
+  const Vec2 v_axis = image_shift_to_velocity(pair.d_row_px, pair.d_col_px, dt_s, cam_);
+  double sign = 1.0;
+  const auto source = static_cast<int>(resolve_sign(unit(v_axis), t_mid_ns, energy_vote, sign));
+  sign_known_now_ = source == 0 ? last_sign_known_ : source == 1;
+  set_velocity(e, {sign * v_axis.x, sign * v_axis.y}, true);
+
+  const double q_peak = std::clamp((pair.height - set_.min_double_height) / 0.15, 0.05, 1.0);
+  const double q_unique = std::clamp(1.5 * (1.0 - pair.second_ratio), 0.05, 1.0);
+  e.quality = q_peak * q_unique * sign_quality(source);
+  e.method = method_name(kNames, source);
+  return e;
+}
+
+}  // namespace gvs::dsp

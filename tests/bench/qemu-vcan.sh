@@ -1,0 +1,185 @@
+#!/bin/bash
+# qemu-vcan.sh — run a command on a virtual CAN bus (vcan0) inside a Debian
+# kernel booted under qemu, for machines whose own kernel has no CAN support.
+#
+#   tests/bench/qemu-vcan.sh [--cache DIR] [--timeout SEC] [--prepare-only] -- COMMAND [ARG...]
+#
+# The guest runs Debian 12's kernel (linux-image-amd64 → linux-image-6.1.0-*-amd64,
+# fetched with apt-get download into the cache) with a busybox initramfs that
+# loads the CAN and 9p modules, creates and raises vcan0, mounts the host's
+# root read-only over 9p and runs COMMAND chrooted into it (same paths, same
+# libraries, the host's current directory). /tmp in the guest is a fresh
+# tmpfs; $GVS_BENCH_OUT (a per-run folder under the cache) is writable and
+# shared with the host. COMMAND's output appears on this script's stdout;
+# the script exits with COMMAND's exit code.
+#
+# Exit codes: COMMAND's own; 125 if the guest did not boot or did not report
+# (message and console tail on stderr); 126 if qemu/kernel/busybox cannot be
+# installed (no network, not root); 124 on timeout.
+#
+# Needs (installed with apt-get when missing and running as root):
+# qemu-system-x86, busybox-static, xz-utils; the kernel package is
+# downloaded (not installed) with apt-get download.
+set -euo pipefail
+
+CACHE="${GVS_BENCH_CACHE:-${PWD}/bench-cache}"
+TIMEOUT=300
+PREPARE_ONLY=0
+MEMORY_MB=1024
+
+die() { echo "qemu-vcan: $*" >&2; exit "${2:-126}"; }
+
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --cache) CACHE="$2"; shift 2 ;;
+    --timeout) TIMEOUT="$2"; shift 2 ;;
+    --prepare-only) PREPARE_ONLY=1; shift ;;
+    --) shift; break ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    *) break ;;
+  esac
+done
+if [[ $PREPARE_ONLY -eq 0 && $# -eq 0 ]]; then
+  die "no command given; usage: $0 [--cache DIR] [--timeout SEC] -- COMMAND [ARG...]" 2
+fi
+mkdir -p "$CACHE"
+CACHE="$(cd "$CACHE" && pwd)"
+
+# --- host tools --------------------------------------------------------------
+need_pkgs=()
+command -v qemu-system-x86_64 >/dev/null || need_pkgs+=(qemu-system-x86)
+{ [[ -x /bin/busybox ]] && /bin/busybox --list 2>/dev/null | grep -x insmod >/dev/null; } || need_pkgs+=(busybox-static)
+command -v xz >/dev/null || need_pkgs+=(xz-utils)
+if [[ ${#need_pkgs[@]} -gt 0 ]]; then
+  [[ $(id -u) -eq 0 ]] || die "missing ${need_pkgs[*]} and not root: install them with apt-get install ${need_pkgs[*]}"
+  echo "qemu-vcan: installing ${need_pkgs[*]} with apt-get" >&2
+  (apt-get install -y -qq "${need_pkgs[@]}" >/dev/null 2>&1 ||
+    { apt-get update -qq >/dev/null 2>&1 && apt-get install -y -qq "${need_pkgs[@]}" >/dev/null 2>&1; }) ||
+    die "apt-get install ${need_pkgs[*]} failed (no network or no Debian mirror?); install them and retry"
+fi
+file /bin/busybox 2>/dev/null | grep -q 'statically linked' || [[ ! -x /usr/bin/file ]] ||
+  die "/bin/busybox is not statically linked: install busybox-static (apt-get install busybox-static)"
+
+# --- kernel and modules --------------------------------------------------------
+KDIR="$CACHE/kernel"
+if [[ ! -f "$KDIR/.ready" ]]; then
+  rm -rf "$KDIR"; mkdir -p "$KDIR/deb"
+  pkg="$(apt-cache depends linux-image-amd64 2>/dev/null | awk '/Depends: linux-image-[0-9]/ {print $2; exit}')"
+  if [[ -z "$pkg" ]]; then
+    apt-get update -qq >/dev/null 2>&1 || true
+    pkg="$(apt-cache depends linux-image-amd64 2>/dev/null | awk '/Depends: linux-image-[0-9]/ {print $2; exit}')"
+  fi
+  [[ -n "$pkg" ]] || die "cannot resolve linux-image-amd64 with apt-cache (run apt-get update; network needed)"
+  echo "qemu-vcan: downloading $pkg" >&2
+  (cd "$KDIR/deb" && apt-get download "$pkg" >/dev/null 2>&1) ||
+    { apt-get update -qq >/dev/null 2>&1 || true; (cd "$KDIR/deb" && apt-get download "$pkg" >/dev/null 2>&1); } ||
+    die "apt-get download $pkg failed (no network?)"
+  dpkg -x "$KDIR"/deb/*.deb "$KDIR/root" || die "dpkg -x of $pkg failed"
+  rm -rf "$KDIR/deb"
+  touch "$KDIR/.ready"
+fi
+VMLINUZ="$(ls "$KDIR"/root/boot/vmlinuz-* | head -1)"
+KVER="${VMLINUZ##*/vmlinuz-}"
+MODDIR="$KDIR/root/lib/modules/$KVER"
+
+# --- initramfs -----------------------------------------------------------------
+WANT_MODULES=(configfs can-dev vcan can can-raw virtio_ring virtio virtio_pci_modern_dev
+  virtio_pci_legacy_dev virtio_pci netfs fscache 9pnet 9pnet_virtio 9p)
+INITRD="$CACHE/initramfs-$KVER.cpio.gz"
+if [[ ! -f "$INITRD" || "$0" -nt "$INITRD" ]]; then
+  IR="$CACHE/initramfs-root"
+  rm -rf "$IR"; mkdir -p "$IR"/{bin,dev,proc,sys,host,modules,tmp}
+  cp /bin/busybox "$IR/bin/busybox"
+  # Resolve each module's file and its dependencies (the "depends=" entry of
+  # its .modinfo; the package ships no modules.dep and depmod may be absent);
+  # load dependencies first; names not found are built into the kernel.
+  declare -A seen=() path_of=()
+  while IFS= read -r f; do
+    n="${f##*/}"; n="${n%%.ko*}"; path_of[${n//-/_}]="$f"
+  done < <(find "$MODDIR/kernel" -name '*.ko' -o -name '*.ko.xz' -o -name '*.ko.zst')
+  order=()
+  modinfo_depends() {
+    case "$1" in
+      *.ko.xz) xz -dc "$1" ;; *.ko.zst) zstd -qdc "$1" ;; *) cat "$1" ;;
+    esac | grep -a -o 'depends=[A-Za-z0-9_,-]*' | head -1 | sed 's/^depends=//; s/,/ /g'
+  }
+  add_module() {
+    local key="${1//-/_}" path dep
+    path="${path_of[$key]:-}"
+    [[ -n "$path" ]] || return 0
+    [[ -z "${seen[$key]:-}" ]] || return 0
+    seen[$key]=1
+    for dep in $(modinfo_depends "$path"); do add_module "$dep"; done
+    order+=("${path#"$MODDIR/"}")
+  }
+  for m in "${WANT_MODULES[@]}"; do add_module "$m"; done
+  : > "$IR/modules/order"
+  for path in "${order[@]}"; do
+    base="$(basename "$path")"
+    case "$base" in
+      *.ko.xz) xz -dc "$MODDIR/$path" > "$IR/modules/${base%.xz}"; base="${base%.xz}" ;;
+      *.ko.zst) zstd -qdc "$MODDIR/$path" > "$IR/modules/${base%.zst}"; base="${base%.zst}" ;;
+      *) cp "$MODDIR/$path" "$IR/modules/$base" ;;
+    esac
+    echo "$base" >> "$IR/modules/order"
+  done
+  cat > "$IR/init" <<'INIT'
+#!/bin/busybox sh
+/bin/busybox --install -s /bin
+export PATH=/bin
+mount -t proc proc /proc; mount -t sysfs sys /sys; mount -t devtmpfs dev /dev
+for m in $(cat /modules/order); do insmod /modules/$m 2>/dev/null || echo "gvs-bench: insmod $m failed"; done
+set -- $(cat /proc/cmdline)
+RUN=""; for a; do case "$a" in gvs.run=*) RUN="${a#gvs.run=}";; esac; done
+fail() { echo "gvs-bench: $*"; poweroff -f; }
+ip link add dev vcan0 type vcan || fail "cannot create vcan0"
+ip link set vcan0 up || fail "cannot raise vcan0"
+mount -t 9p -o trans=virtio,version=9p2000.L,ro hostroot /host || fail "cannot mount the host root over 9p"
+mount -t 9p -o trans=virtio,version=9p2000.L gvsrun "/host$RUN" || fail "cannot mount the run folder"
+mount -t proc proc /host/proc; mount -t sysfs sys /host/sys; mount -t devtmpfs dev /host/dev
+mount -t tmpfs tmp /host/tmp
+echo "gvs-bench: guest up, vcan0 ready"
+chroot /host /bin/sh "$RUN/cmd.sh" < /dev/console > /dev/console 2>&1
+echo $? > "/host$RUN/rc"
+sync
+poweroff -f
+INIT
+  chmod +x "$IR/init"
+  (cd "$IR" && find . | busybox cpio -o -H newc 2>/dev/null | gzip -1) > "$INITRD.tmp"
+  mv "$INITRD.tmp" "$INITRD"
+  rm -rf "$IR"
+fi
+[[ $PREPARE_ONLY -eq 1 ]] && { echo "qemu-vcan: kernel $KVER and initramfs ready in $CACHE"; exit 0; }
+
+# --- run -------------------------------------------------------------------------
+RUN="$(mktemp -d "$CACHE/run.XXXXXX")"
+mkdir -p "$RUN/out"
+{
+  echo "export PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin"
+  echo "export HOME=/tmp GVS_BENCH_OUT=$(printf '%q' "$RUN/out") GVS_IN_QEMU_VCAN=1"
+  echo "cd $(printf '%q' "$PWD") || exit 125"
+  printf '%q ' "$@"; echo
+} > "$RUN/cmd.sh"
+
+set +e
+timeout --foreground "$TIMEOUT" qemu-system-x86_64 -m "$MEMORY_MB" -smp 2 -nographic -no-reboot \
+  -kernel "$VMLINUZ" -initrd "$INITRD" \
+  -append "console=ttyS0 quiet loglevel=3 panic=-1 gvs.run=$RUN" \
+  -virtfs "local,path=/,mount_tag=hostroot,security_model=none,readonly=on,multidevs=remap" \
+  -virtfs "local,path=$RUN,mount_tag=gvsrun,security_model=none,multidevs=remap" \
+  -nic none < /dev/null 2>&1 | tee "$RUN/console.log" |
+  awk '{ sub(/\r$/, "") } /gvs-bench: guest up/ { on = 1; next } on && !/^\[ *[0-9]+\.[0-9]+\] reboot: / { print; fflush() }'
+qemu_rc=${PIPESTATUS[0]}
+set -e
+if [[ $qemu_rc -eq 124 ]]; then
+  echo "qemu-vcan: timed out after ${TIMEOUT}s; console log: $RUN/console.log" >&2
+  exit 124
+fi
+if [[ ! -f "$RUN/rc" ]]; then
+  echo "qemu-vcan: the guest did not run the command (qemu exit $qemu_rc). Console tail:" >&2
+  tail -n 30 "$RUN/console.log" >&2
+  exit 125
+fi
+rc="$(cat "$RUN/rc")"
+rm -rf "$RUN"
+exit "$rc"

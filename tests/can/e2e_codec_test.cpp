@@ -1,0 +1,259 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "gvs/can/codec.hpp"
+#include "gvs/can/e2e.hpp"
+
+namespace gvs::can {
+namespace {
+
+std::uint8_t crc_of(std::vector<std::uint8_t> bytes) { return crc8_autosar(bytes.data(), bytes.size()); }
+
+TEST(Crc8Autosar, CheckValueAndAutosarTestVectors) {
+  EXPECT_EQ(crc_of({'1', '2', '3', '4', '5', '6', '7', '8', '9'}), 0xDF);
+  // AUTOSAR SWS CRC Library, CRC8H2F examples.
+  EXPECT_EQ(crc_of({0x00, 0x00, 0x00, 0x00}), 0x12);
+  EXPECT_EQ(crc_of({0xF2, 0x01, 0x83}), 0xC2);
+  EXPECT_EQ(crc_of({0x0F, 0xAA, 0x00, 0x55}), 0xC6);
+  EXPECT_EQ(crc_of({0x00, 0xFF, 0x55, 0x11}), 0x77);
+  EXPECT_EQ(crc_of({0x33, 0x22, 0x55, 0xAA, 0xBB, 0xCC, 0xDD, 0xEE, 0xFF}), 0x11);
+  EXPECT_EQ(crc_of({0x92, 0x6B, 0x55}), 0x33);
+  EXPECT_EQ(crc_of({0xFF, 0xFF, 0xFF, 0xFF}), 0x6C);
+}
+
+TEST(Crc8Autosar, ContinuesOverBlocks) {
+  const std::uint8_t all[] = {1, 2, 3, 4, 5, 6, 7, 8};
+  const std::uint8_t first = crc8_autosar(all, 3);
+  EXPECT_EQ(crc8_autosar(all + 3, 5, first), crc8_autosar(all, 8));
+}
+
+TEST(E2e, ProtectedFrameChecksAndAnySingleBitFlipIsCaught) {
+  CanFrame f;
+  f.id = 0x301;
+  f.len = 8;
+  f.data = {0, 0xA0, 1, 2, 3, 4, 5, 6};
+  e2e_protect(f, 7);
+  EXPECT_EQ(e2e_counter(f), 7);
+  EXPECT_EQ(f.data[1] & 0xF0, 0xA0) << "counter must keep the high nibble";
+  // CRC over bytes 1..7 then the data ID (low byte of the CAN ID).
+  const std::vector<std::uint8_t> input = {f.data[1], f.data[2], f.data[3], f.data[4], f.data[5], f.data[6], f.data[7], 0x01};
+  EXPECT_EQ(f.data[0], crc_of(input));
+  EXPECT_TRUE(e2e_crc_ok(f));
+  for (std::size_t byte = 0; byte < 8; ++byte) {
+    for (int bit = 0; bit < 8; ++bit) {
+      CanFrame g = f;
+      g.data[byte] = static_cast<std::uint8_t>(g.data[byte] ^ (1u << bit));
+      EXPECT_FALSE(e2e_crc_ok(g)) << byte << ":" << bit;
+    }
+  }
+  CanFrame other_id = f;
+  other_id.id = 0x302;
+  EXPECT_FALSE(e2e_crc_ok(other_id)) << "the data ID is part of the CRC";
+  CanFrame short_frame = f;
+  short_frame.len = 7;
+  EXPECT_FALSE(e2e_crc_ok(short_frame));
+}
+
+TEST(E2e, CounterDeltaWraps) {
+  EXPECT_EQ(e2e_counter_delta(15, 0), 1);
+  EXPECT_EQ(e2e_counter_delta(3, 4), 1);
+  EXPECT_EQ(e2e_counter_delta(3, 3), 0);
+  EXPECT_EQ(e2e_counter_delta(14, 2), 4);
+}
+
+TEST(Encoder, CounterStepsPerMessageIdAndWraps) {
+  Encoder enc({});
+  for (int i = 0; i < 40; ++i) {
+    const CanFrame v = enc.velocity({});
+    const CanFrame x = enc.velocity_xy({});
+    EXPECT_EQ(e2e_counter(v), i % 16);
+    EXPECT_EQ(e2e_counter(x), i % 16);
+    EXPECT_TRUE(e2e_crc_ok(v));
+    EXPECT_TRUE(e2e_crc_ok(x));
+    if (i % 5 == 0) {
+      const CanFrame s = enc.status({});
+      EXPECT_EQ(e2e_counter(s), (i / 5) % 16);
+    }
+  }
+}
+
+TEST(Encoder, RejectsBadConfigWithAMessage) {
+  EXPECT_THROW(Encoder({0x7FD, 100}), std::invalid_argument);
+  try {
+    Encoder bad({0x800, 100});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("0x800"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Encoder({0x300, 0}), std::invalid_argument);
+  EXPECT_NO_THROW(Encoder({0x7FC, 50}));
+}
+
+TEST(Encoder, ConfigurableBaseIdMovesAllIdsAndDataIds) {
+  Encoder enc({0x123, 100});
+  const CanFrame v = enc.velocity({});
+  const CanFrame x = enc.velocity_xy({});
+  const CanFrame s = enc.status({});
+  const CanFrame t = enc.timing({});
+  EXPECT_EQ(v.id, 0x123u);
+  EXPECT_EQ(x.id, 0x124u);
+  EXPECT_EQ(s.id, 0x125u);
+  EXPECT_EQ(t.id, 0x126u);
+  for (const CanFrame& f : {v, x, s, t}) {
+    EXPECT_TRUE(e2e_crc_ok(f));
+    EXPECT_EQ(decode(f, MessageIds{0x123}).status, DecodeStatus::Ok);
+    EXPECT_EQ(decode(f, MessageIds{0x300}).status, DecodeStatus::NotOurs);
+  }
+}
+
+TEST(Codec, RoundTripWithinHalfAStep) {
+  const MessageIds ids;
+  for (double speed = 0.0; speed <= 81.91; speed += 0.637) {
+    for (double dir = -180.0; dir <= 180.0; dir += 13.37) {
+      const VelocityMsg in{true, true, true, true, speed, dir, dir * 1.1, 50.0};
+      const DecodedFrame d = decode(encode_velocity(in, ids, 0), ids);
+      ASSERT_EQ(d.status, DecodeStatus::Ok);
+      EXPECT_NEAR(d.velocity.speed_mps, speed, 0.005 + 1e-9);
+      EXPECT_NEAR(d.velocity.direction_deg, dir, 0.005 + 1e-9);
+      EXPECT_NEAR(d.velocity.yaw_rate_dps, dir * 1.1, 0.05 + 1e-9);
+      EXPECT_TRUE(d.velocity.valid && d.velocity.speed_valid && d.velocity.direction_valid &&
+                  d.velocity.yaw_rate_valid);
+    }
+  }
+  // 250 km/h in x and y.
+  const double v250 = 250.0 / 3.6;
+  const DecodedFrame d = decode(encode_velocity_xy({true, v250, -v250, 12}, ids, 0), ids);
+  EXPECT_NEAR(d.xy.vx_mps, v250, 0.0025 + 1e-9);
+  EXPECT_NEAR(d.xy.vy_mps, -v250, 0.0025 + 1e-9);
+  EXPECT_EQ(d.xy.age_ms, 12u);
+}
+
+TEST(Codec, StatusAndTimingRoundTrip) {
+  const MessageIds ids;
+  const StatusMsg s{SensorState::Fault, 0x0555, 200, 3, 77, method_code("thesis")};
+  const DecodedFrame d = decode(encode_status(s, ids, 1), ids);
+  EXPECT_EQ(d.status_msg.state, SensorState::Fault);
+  EXPECT_EQ(d.status_msg.faults, 0x0555);
+  EXPECT_EQ(d.status_msg.dropped_frames, 200);
+  EXPECT_EQ(d.status_msg.ring_overruns, 3);
+  EXPECT_EQ(d.status_msg.can_send_errors, 77);
+  EXPECT_EQ(method_name(d.status_msg.method), "thesis");
+  const DecodedFrame t = decode(encode_timing({70000, 1234, 5}, ids, 1), ids);
+  EXPECT_EQ(t.timing.exposure_us, 65535u) << "saturates";
+  EXPECT_EQ(t.timing.processing_time_us, 1234u);
+  EXPECT_EQ(t.timing.late_wakeups, 5);
+  EXPECT_EQ(method_code("some-new-method"), 255);
+}
+
+dsp::VelocityEstimate estimate_at(std::int64_t t_ns) {
+  dsp::VelocityEstimate e;
+  e.t_ns = t_ns;
+  e.has_speed = e.has_direction = e.has_yaw_rate = true;
+  e.vx_mps = 10.0;
+  e.vy_mps = 1.0;
+  e.speed_mps = std::hypot(10.0, 1.0);
+  e.direction_deg = std::atan2(1.0, 10.0) * 180.0 / 3.141592653589793;
+  e.yaw_rate_dps = 12.5;
+  e.quality = 0.8;
+  e.method = "thesis";
+  return e;
+}
+
+TEST(VelocityFromEstimate, FreshEstimateIsValid) {
+  const auto e = estimate_at(1'000'000'000);
+  const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 35'000'000, 100);
+  EXPECT_TRUE(p.velocity.valid);
+  EXPECT_TRUE(p.velocity.yaw_rate_valid);
+  EXPECT_DOUBLE_EQ(p.velocity.speed_mps, e.speed_mps);
+  EXPECT_NEAR(p.velocity.quality_pct, 80.0, 1e-9);
+  EXPECT_TRUE(p.xy.valid);
+  EXPECT_EQ(p.xy.age_ms, 35u);
+}
+
+TEST(VelocityFromEstimate, StaleEstimateIsSentInvalidWithItsAge) {
+  const auto e = estimate_at(1'000'000'000);
+  const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 101'000'000, 100);
+  EXPECT_FALSE(p.velocity.valid || p.velocity.speed_valid || p.velocity.direction_valid || p.velocity.yaw_rate_valid);
+  EXPECT_FALSE(p.xy.valid);
+  EXPECT_EQ(p.xy.age_ms, 101u);
+  // On the wire: flags 0 and values 0, never the old numbers.
+  const MessageIds ids;
+  const DecodedFrame d = decode(encode_velocity(p.velocity, ids, 0), ids);
+  EXPECT_EQ(d.velocity.speed_mps, 0.0);
+  EXPECT_EQ(d.velocity.direction_deg, 0.0);
+  const DecodedFrame dx = decode(encode_velocity_xy(p.xy, ids, 0), ids);
+  EXPECT_FALSE(dx.xy.valid);
+  EXPECT_EQ(dx.xy.vx_mps, 0.0);
+  EXPECT_EQ(dx.xy.age_ms, 101u);
+  // Even if the caller sets values on an invalid message, they are not sent.
+  VelocityMsg sloppy;
+  sloppy.speed_mps = 33.0;
+  EXPECT_EQ(decode(encode_velocity(sloppy, ids, 0), ids).velocity.speed_mps, 0.0);
+}
+
+TEST(VelocityFromEstimate, NoEstimateYet) {
+  const VelocityPair p = velocity_from_estimate(nullptr, 5, 100);
+  EXPECT_FALSE(p.velocity.valid);
+  EXPECT_FALSE(p.xy.valid);
+  EXPECT_EQ(p.xy.age_ms, 65535u);
+}
+
+TEST(VelocityFromEstimate, EachQuantityHasItsOwnAvailability) {
+  auto e = estimate_at(0);
+  e.has_speed = false;  // direction but no speed
+  e.has_yaw_rate = false;
+  VelocityPair p = velocity_from_estimate(&e, 0, 100);
+  EXPECT_FALSE(p.velocity.valid);
+  EXPECT_FALSE(p.velocity.speed_valid);
+  EXPECT_TRUE(p.velocity.direction_valid);
+  EXPECT_FALSE(p.velocity.yaw_rate_valid);
+  EXPECT_FALSE(p.xy.valid);
+  EXPECT_EQ(p.velocity.speed_mps, 0.0);
+
+  auto standstill = estimate_at(0);
+  standstill.has_direction = false;
+  standstill.speed_mps = standstill.vx_mps = standstill.vy_mps = 0.0;
+  p = velocity_from_estimate(&standstill, 0, 100);
+  EXPECT_TRUE(p.velocity.speed_valid);
+  EXPECT_FALSE(p.velocity.direction_valid);
+  EXPECT_FALSE(p.velocity.valid);
+  EXPECT_TRUE(p.xy.valid) << "vx, vy are known at standstill without a direction";
+}
+
+TEST(VelocityFromEstimate, OutOfRangeOrNonFiniteIsInvalidNotClamped) {
+  auto e = estimate_at(0);
+  e.speed_mps = 90.0;  // above GVS_Speed's 81.91 m/s
+  e.yaw_rate_dps = 300.0;
+  e.vx_mps = std::numeric_limits<double>::quiet_NaN();
+  const VelocityPair p = velocity_from_estimate(&e, 0, 100);
+  EXPECT_FALSE(p.velocity.speed_valid);
+  EXPECT_FALSE(p.velocity.yaw_rate_valid);
+  EXPECT_TRUE(p.velocity.direction_valid);
+  EXPECT_FALSE(p.xy.valid);
+}
+
+TEST(Decode, RejectsForeignAndMalformedFrames) {
+  const MessageIds ids;
+  Encoder enc({});
+  CanFrame f = enc.velocity({});
+  EXPECT_EQ(decode(f, ids).status, DecodeStatus::Ok);
+  CanFrame ext = f;
+  ext.extended = true;
+  EXPECT_EQ(decode(ext, ids).status, DecodeStatus::NotOurs);
+  CanFrame shortf = f;
+  shortf.len = 4;
+  EXPECT_EQ(decode(shortf, ids).status, DecodeStatus::BadLength);
+  CanFrame bad = f;
+  bad.data[3] ^= 0x10;
+  EXPECT_EQ(decode(bad, ids).status, DecodeStatus::BadCrc);
+  CanFrame other = f;
+  other.id = 0x123;
+  EXPECT_EQ(decode(other, ids).status, DecodeStatus::NotOurs);
+}
+
+}  // namespace
+}  // namespace gvs::can

@@ -1,0 +1,328 @@
+// gvsd as a process: the "must show" run, signals, sd_notify and the
+// watchdog, configuration errors, journal-friendly logging, the no-argument
+// desk run. Runs the real binary (GVSD_BINARY).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "gvs/daemon/clock.hpp"
+#include "gvsd_test_support.hpp"
+
+namespace gvs::daemon {
+namespace {
+
+using testing::quantile;
+using testing::read_candump_log;
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  static const fs::path dir = [] {
+    fs::path d = fs::temp_directory_path() / ("gvsd_e2e_" + std::to_string(getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Child {
+  pid_t pid = -1;
+  fs::path out, err;
+};
+
+/// Starts gvsd with `args`; stdout and stderr go to files. `env` entries are
+/// set ("K=V") or removed ("K=") in the child; INVOCATION_ID and
+/// JOURNAL_STREAM are removed unless given.
+Child spawn(const std::vector<std::string>& args, const std::string& name,
+            const std::map<std::string, std::string>& env = {}) {
+  Child c;
+  c.out = temp_dir() / (name + ".out");
+  c.err = temp_dir() / (name + ".err");
+  c.pid = fork();
+  if (c.pid == 0) {
+    unsetenv("INVOCATION_ID");
+    unsetenv("JOURNAL_STREAM");
+    unsetenv("NOTIFY_SOCKET");
+    unsetenv("WATCHDOG_USEC");
+    for (const auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
+    freopen(c.out.c_str(), "w", stdout);
+    freopen(c.err.c_str(), "w", stderr);
+    std::vector<char*> argv;
+    std::string bin = GVSD_BINARY;
+    argv.push_back(bin.data());
+    std::vector<std::string> copy = args;
+    for (std::string& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(bin.c_str(), argv.data());
+    _exit(127);
+  }
+  return c;
+}
+
+int wait_exit(const Child& c) {
+  int status = 0;
+  waitpid(c.pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+fs::path write_config(const std::string& name, const std::string& text) {
+  const fs::path p = temp_dir() / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+constexpr double kSineSpeedMps = 60.0 / 3.6;
+
+/// The acceptance run: 10 s of sim:sine to a candump file.
+void must_show_run(const std::string& method) {
+  const fs::path log = temp_dir() / ("must_show_" + method + ".log");
+  std::vector<std::string> args{"--source", "sim:sine", "--can", "candump:" + log.string(), "--run-for", "10"};
+  if (method != "gvs") {
+    args.push_back("--config");
+    args.push_back(write_config("method_" + method + ".toml", "[estimator]\nmethod = \"" + method + "\"\n").string());
+  }
+  const Child c = spawn(args, "must_show_" + method);
+  ASSERT_EQ(wait_exit(c), 0) << slurp(c.err);
+  const auto msgs = read_candump_log(log.string());
+  EXPECT_EQ(msgs.unparsed, 0u);
+  EXPECT_EQ(msgs.bad_crc, 0u);
+  EXPECT_EQ(msgs.velocity.size(), 500u);
+  EXPECT_EQ(msgs.velocity_xy.size(), 500u);
+  EXPECT_EQ(msgs.status.size(), 100u);
+  ASSERT_GT(msgs.velocity.size(), 100u);
+
+  // Timing of the 20 ms schedule.
+  const std::vector<double> periods = testing::periods_ms(msgs.velocity);
+  std::vector<double> deviation;
+  for (double p : periods) deviation.push_back(std::fabs(p - 20.0));
+  const double median = quantile(periods, 0.5);
+  const double p99 = quantile(deviation, 0.99);
+  EXPECT_NEAR(median, 20.0, 0.1);
+  EXPECT_LT(p99, 2.0);
+  const std::vector<double> status_periods = testing::periods_ms(msgs.status);
+  EXPECT_NEAR(quantile(status_periods, 0.5), 100.0, 0.5);
+
+  // Values after the first 0.5 s.
+  const std::int64_t t0 = msgs.velocity.front().t_ns;
+  std::size_t counted = 0, valid = 0;
+  double speed_sum = 0.0, dir_min = 1e9, dir_max = -1e9;
+  for (const auto& m : msgs.velocity) {
+    if (m.t_ns - t0 < 500 * kNsPerMs) continue;
+    ++counted;
+    const auto& v = m.decoded.velocity;
+    if (!v.valid) continue;
+    ++valid;
+    speed_sum += v.speed_mps;
+    dir_min = std::min(dir_min, v.direction_deg);
+    dir_max = std::max(dir_max, v.direction_deg);
+  }
+  const double valid_fraction = static_cast<double>(valid) / static_cast<double>(counted);
+  const double mean_speed = valid > 0 ? speed_sum / static_cast<double>(valid) : 0.0;
+  ::testing::Test::RecordProperty("median_period_ms", std::to_string(median));
+  ::testing::Test::RecordProperty("p99_deviation_ms", std::to_string(p99));
+  ::testing::Test::RecordProperty("valid_fraction", std::to_string(valid_fraction));
+  ::testing::Test::RecordProperty("mean_speed_mps", std::to_string(mean_speed));
+  std::printf("[ figures  ] %s: median period %.4f ms, p99 |deviation| %.3f ms, valid %.1f %%, mean speed %.3f m/s, "
+              "direction %.2f .. %.2f deg\n",
+              method.c_str(), median, p99, 100.0 * valid_fraction, mean_speed, dir_min, dir_max);
+  EXPECT_GE(valid_fraction, 0.95) << "health: " << slurp(c.err);
+  EXPECT_NEAR(mean_speed, kSineSpeedMps, 0.02 * kSineSpeedMps);
+  EXPECT_NEAR(dir_max, 8.0, 1.0);
+  EXPECT_NEAR(dir_min, -8.0, 1.0);
+  fs::remove(log);
+}
+
+// With the real estimator: the figures.
+TEST(GvsdMustShow, SimSine10sWithGvsEstimator) { must_show_run("gvs"); }
+
+// With the source's truth in place of the estimator: the daemon's own part
+// (timing, packing, staleness) of the same figures.
+TEST(GvsdMustShow, SimSine10sWithTruth) { must_show_run("truth"); }
+
+TEST(Gvsd, SigtermStopsCleanlyWithin100Milliseconds) {
+  const fs::path log = temp_dir() / "sigterm.log";
+  const Child c = spawn({"--source", "sim:const", "--can", "candump:" + log.string()}, "sigterm");
+  // Wait until it runs (CAN lines appear), then a little more.
+  const std::int64_t deadline = mono_now_ns() + 30 * kNsPerS;
+  while (read_candump_log(log.string()).velocity.size() < 10 && mono_now_ns() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const std::int64_t t0 = mono_now_ns();
+  kill(c.pid, SIGTERM);
+  const int code = wait_exit(c);
+  const double took_ms = static_cast<double>(mono_now_ns() - t0) / 1e6;
+  EXPECT_EQ(code, 0) << slurp(c.err);
+  EXPECT_LT(took_ms, 100.0);
+  const auto msgs = read_candump_log(log.string());
+  ASSERT_FALSE(msgs.status.empty());
+  EXPECT_EQ(msgs.status.back().decoded.status_msg.state, can::SensorState::Stopping);
+  EXPECT_NE(slurp(c.err).find("stopped (SIGTERM)"), std::string::npos) << slurp(c.err);
+  std::printf("[ figures  ] SIGTERM to exit: %.1f ms\n", took_ms);
+}
+
+TEST(Gvsd, SigintStopsToo) {
+  const Child c = spawn({"--source", "sim:const", "--can", "candump:" + (temp_dir() / "sigint.log").string()}, "sigint");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  kill(c.pid, SIGINT);
+  EXPECT_EQ(wait_exit(c), 0);
+  EXPECT_NE(slurp(c.err).find("stopped (SIGINT)"), std::string::npos) << slurp(c.err);
+}
+
+/// A datagram socket standing in for systemd's notify socket.
+class NotifySocket {
+ public:
+  NotifySocket() {
+    path_ = (temp_dir() / "notify.sock").string();
+    fs::remove(path_);
+    fd_ = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::snprintf(addr.sun_path, sizeof(addr.sun_path), "%s", path_.c_str());
+    if (bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) ADD_FAILURE() << "bind " << path_;
+  }
+  ~NotifySocket() { close(fd_); }
+  [[nodiscard]] const std::string& path() const { return path_; }
+  std::vector<std::string> drain() {
+    std::vector<std::string> out;
+    char buf[4096];
+    for (;;) {
+      const ssize_t n = recv(fd_, buf, sizeof(buf), 0);
+      if (n <= 0) break;
+      out.emplace_back(buf, static_cast<std::size_t>(n));
+    }
+    return out;
+  }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
+TEST(Gvsd, NotifiesSystemdReadyStatusWatchdogStopping) {
+  NotifySocket sock;
+  const Child c = spawn({"--source", "sim:const", "--can", "candump:" + (temp_dir() / "notify.log").string(),
+                         "--run-for", "2", "--config",
+                         write_config("notify.toml", "[log]\nhealth_interval_s = 0.5\n").string()},
+                        "notify", {{"NOTIFY_SOCKET", sock.path()}, {"WATCHDOG_USEC", "200000"}});
+  // Read while it runs, as systemd does (a full datagram queue would block sd_notify).
+  std::vector<std::string> messages;
+  std::atomic<bool> exited{false};
+  std::thread reader([&] {
+    while (!exited.load()) {
+      for (std::string& m : sock.drain()) messages.push_back(std::move(m));
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  });
+  const int code = wait_exit(c);
+  exited = true;
+  reader.join();
+  for (std::string& m : sock.drain()) messages.push_back(std::move(m));
+  ASSERT_EQ(code, 0) << slurp(c.err);
+  int ready = 0, watchdog = 0, status = 0, stopping = 0;
+  for (const std::string& m : messages) {
+    ready += m.find("READY=1") != std::string::npos ? 1 : 0;
+    watchdog += m.find("WATCHDOG=1") != std::string::npos ? 1 : 0;
+    status += m.find("STATUS=") != std::string::npos ? 1 : 0;
+    stopping += m.find("STOPPING=1") != std::string::npos ? 1 : 0;
+  }
+  EXPECT_EQ(ready, 1);
+  EXPECT_GE(watchdog, 10) << "pinged every 100 ms while all threads progress";
+  EXPECT_GE(status, 3);
+  EXPECT_EQ(stopping, 1);
+}
+
+TEST(Gvsd, SighupReloadsWhatCanBeReloaded) {
+  const fs::path cfg =
+      write_config("reload.toml", "[source]\nuri = \"sim:const\"\n[can]\nstaleness_limit_ms = 50\n");
+  const Child c = spawn({"--config", cfg.string(), "--can", "candump:" + (temp_dir() / "reload.log").string()},
+                        "reload");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  write_config("reload.toml", "[source]\nuri = \"sim:sine\"\n[can]\nstaleness_limit_ms = 20\n[log]\nlevel = \"debug\"\n");
+  kill(c.pid, SIGHUP);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  write_config("reload.toml", "[source]\nuri = \"sim:const\"\n[can]\nstaleness_limit_ms = \"bad\"\n");
+  kill(c.pid, SIGHUP);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(c.pid, SIGTERM);
+  EXPECT_EQ(wait_exit(c), 0);
+  const std::string err = slurp(c.err);
+  EXPECT_NE(err.find("SIGHUP: reloaded"), std::string::npos) << err;
+  EXPECT_NE(err.find("staleness limit 20 ms"), std::string::npos) << err;
+  EXPECT_NE(err.find("source.uri changed"), std::string::npos) << err;
+  EXPECT_NE(err.find("SIGHUP: keeping the running configuration"), std::string::npos) << err;
+  EXPECT_NE(err.find("staleness_limit_ms must be a number"), std::string::npos) << err;
+}
+
+TEST(Gvsd, BadConfigurationStopsStartUpNamingKeyAndRange) {
+  const fs::path cfg = write_config("bad.toml", "[threads.capture]\npriority = 200\n");
+  const Child c = spawn({"--config", cfg.string()}, "badconfig");
+  EXPECT_EQ(wait_exit(c), 1);
+  const std::string err = slurp(c.err);
+  EXPECT_NE(err.find("[threads.capture] priority = 200 is out of range"), std::string::npos) << err;
+  EXPECT_NE(err.find("0 .. 99"), std::string::npos) << err;
+  EXPECT_TRUE(slurp(c.out).empty());
+}
+
+TEST(Gvsd, RefusesLibcameraAndUnknownSourcesClearly) {
+  const Child a = spawn({"--source", "libcamera:0"}, "libcamera");
+  EXPECT_EQ(wait_exit(a), 1);
+  EXPECT_NE(slurp(a.err).find("libcamera source is not implemented yet"), std::string::npos) << slurp(a.err);
+  const Child b = spawn({"--can", "carrier-pigeon:x"}, "badcan");
+  EXPECT_EQ(wait_exit(b), 1);
+  EXPECT_NE(slurp(b.err).find("carrier-pigeon"), std::string::npos) << slurp(b.err);
+}
+
+TEST(Gvsd, JournalFormatUnderSystemd) {
+  const Child c = spawn({"--source", "sim:const", "--can", "candump:" + (temp_dir() / "journal.log").string(),
+                         "--run-for", "0.5"},
+                        "journal", {{"INVOCATION_ID", "0123456789abcdef"}});
+  ASSERT_EQ(wait_exit(c), 0);
+  const std::string err = slurp(c.err);
+  std::istringstream lines(err);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    ++n;
+    ASSERT_GE(line.size(), 3u);
+    EXPECT_EQ(line[0], '<') << line;
+    EXPECT_TRUE(line[1] >= '0' && line[1] <= '7') << line;
+    EXPECT_EQ(line[2], '>') << line;
+  }
+  EXPECT_GE(n, 2);
+  EXPECT_EQ(err.find('\x1b'), std::string::npos) << "no colours in the journal";
+  EXPECT_NE(err.find("<6>gvsd: source sim:const"), std::string::npos) << err;
+}
+
+// README's first command: no arguments on a desk = sim:sine, candump lines on stdout.
+TEST(Gvsd, NoArgumentsRunsSimSineToStdout) {
+  const Child c = spawn({}, "noargs");
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  kill(c.pid, SIGTERM);
+  EXPECT_EQ(wait_exit(c), 0);
+  const auto msgs = read_candump_log(c.out.string());
+  EXPECT_EQ(msgs.unparsed, 0u);
+  EXPECT_GE(msgs.velocity.size(), 50u);
+  EXPECT_NE(slurp(c.err).find("source sim:sine"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gvs::daemon

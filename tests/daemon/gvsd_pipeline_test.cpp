@@ -1,0 +1,241 @@
+// The three gvsd threads in-process with a scripted camera: stale estimates
+// go out invalid, overruns are counted and reported, exposure control closes
+// the loop, a bounded run sends exactly its periods, stop is prompt.
+// Threaded: run under TSan and ASan too.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <thread>
+
+#include "gvs/can/e2e.hpp"
+#include "gvs/can/sink.hpp"
+#include "gvs/daemon/clock.hpp"
+#include "gvs/daemon/pipeline.hpp"
+#include "gvsd_test_support.hpp"
+
+namespace gvs::daemon {
+namespace {
+
+using testing::read_candump_log;
+
+/// A camera at `fps` that delivers `frames` frames (all of a car at 10 m/s,
+/// 2 deg) and then goes silent until stopped.
+class ScriptedCamera final : public FrameSource {
+ public:
+  ScriptedCamera(double fps, std::int64_t frames) : period_ns_(static_cast<std::int64_t>(1e9 / fps)), frames_(frames) {}
+  std::string describe() const override { return "scripted"; }
+  dsp::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
+  double nominal_fps() const override { return 1e9 / static_cast<double>(period_ns_); }
+  void prepare(FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
+  SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
+    if (base_ns_ < 0) base_ns_ = mono_now_ns();
+    if (index_ >= frames_) {
+      silent_since_ns.store(silent_since_ns.load() < 0 ? mono_now_ns() : silent_since_ns.load());
+      while (!stop.load()) sleep_until_ns(mono_now_ns() + kNsPerMs);
+      return SourceStatus::stopped;
+    }
+    const std::int64_t due = base_ns_ + (index_ + 1) * period_ns_;
+    while (mono_now_ns() < due) {
+      if (stop.load()) return SourceStatus::stopped;
+      sleep_until_ns(std::min(due, mono_now_ns() + 5 * kNsPerMs));
+    }
+    slot.view.index = index_++;
+    slot.view.t_ns = due - 1'000'000;
+    slot.view.exposure = plan_;
+    slot.view.exposure.exposure_us = 1000.0;
+    slot.truth = FrameTruth{true, 9.99391, 0.34899, 10.0, 2.0, 0.0};
+    return SourceStatus::frame;
+  }
+  void set_exposure(const dsp::ExposurePlan& plan) noexcept override {
+    plan_ = plan;
+    last_exposure_us.store(plan.exposure_us);
+    exposure_calls.fetch_add(1);
+  }
+  bool controls_exposure() const override { return true; }
+
+  std::atomic<double> last_exposure_us{0.0};
+  std::atomic<int> exposure_calls{0};
+  std::atomic<std::int64_t> silent_since_ns{-1};
+
+ private:
+  std::int64_t period_ns_;
+  std::int64_t frames_;
+  std::int64_t index_ = 0;
+  std::int64_t base_ns_ = -1;
+  dsp::ExposurePlan plan_;
+};
+
+/// An estimator that takes `delay_ms` per frame and reports the truth.
+class SlowEstimator final : public FrameEstimator {
+ public:
+  explicit SlowEstimator(int delay_ms) : delay_ms_(delay_ms), inner_(make_frame_estimator("truth", {})) {}
+  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+    sleep_until_ns(mono_now_ns() + delay_ms_ * kNsPerMs);
+    return inner_->estimate(slot);
+  }
+  void reset() noexcept override {}
+  std::string name() const override { return "slow"; }
+
+ private:
+  int delay_ms_;
+  std::unique_ptr<FrameEstimator> inner_;
+};
+
+DaemonConfig test_config() {
+  DaemonConfig c;
+  c.capture_thread.priority = 0;  // the tests must not take the shared machine's CPUs
+  c.processing_thread.priority = 0;
+  c.sender_thread.priority = 0;
+  c.prefault_stack_kb = 64;
+  return c;
+}
+
+std::string temp_log(const char* name) {
+  return (std::filesystem::temp_directory_path() /
+          ("gvsd_pipeline_" + std::string(name) + "_" + std::to_string(getpid()) + ".log"))
+      .string();
+}
+
+TEST(Pipeline, StaleEstimateGoesOutInvalidNeverAsFresh) {
+  const std::string log = temp_log("stale");
+  DaemonConfig c = test_config();
+  auto camera = std::make_unique<ScriptedCamera>(100.0, 30);  // 300 ms of frames, then silence
+  ScriptedCamera* cam = camera.get();
+  Pipeline p(c, std::move(camera), make_frame_estimator("truth", {}), can::open_sink("candump:" + log));
+  p.start();
+  while (cam->silent_since_ns.load() < 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const std::int64_t silent_mono = cam->silent_since_ns.load();
+  const std::int64_t silent_real = real_now_ns() - (mono_now_ns() - silent_mono);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  p.request_stop();
+  p.join();
+
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+  ASSERT_GT(msgs.velocity.size(), 25u);
+  int fresh_valid = 0, late_checked = 0, late_valid = 0;
+  for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
+    const auto& m = msgs.velocity[i];
+    const auto& xy = msgs.velocity_xy[i].decoded.xy;
+    if (m.t_ns < silent_real - 20 * kNsPerMs && m.t_ns > silent_real - 250 * kNsPerMs) {
+      fresh_valid += m.decoded.velocity.valid ? 1 : 0;
+      if (m.decoded.velocity.valid) {
+        EXPECT_NEAR(m.decoded.velocity.speed_mps, 10.0, 0.01);
+        EXPECT_NEAR(m.decoded.velocity.direction_deg, 2.0, 0.01);
+        EXPECT_LE(xy.age_ms, 50u);
+      }
+    }
+    // 50 ms staleness limit + the last frame's age at the silence + one period of slack.
+    if (m.t_ns > silent_real + 80 * kNsPerMs) {
+      ++late_checked;
+      late_valid += m.decoded.velocity.valid || m.decoded.velocity.speed_valid || xy.valid ? 1 : 0;
+      EXPECT_GT(xy.age_ms, 50u) << "the age says how old the estimate is";
+    }
+  }
+  EXPECT_GE(fresh_valid, 8) << "while frames flow, estimates go out valid";
+  EXPECT_GE(late_checked, 10);
+  EXPECT_EQ(late_valid, 0) << "an estimate older than the limit must never go out as fresh";
+  ASSERT_FALSE(msgs.status.empty());
+  const auto& last_status = msgs.status.back().decoded.status_msg;
+  EXPECT_EQ(last_status.state, can::SensorState::Stopping);
+  const auto& before = msgs.status[msgs.status.size() - 2].decoded.status_msg;
+  EXPECT_NE(before.faults & can::kFaultEstimateStale, 0) << "status flags the stale estimate";
+  EXPECT_NE(before.faults & can::kFaultCamera, 0) << "status flags the silent camera";
+  EXPECT_EQ(before.state, can::SensorState::Fault);
+  EXPECT_EQ(msgs.bad_crc, 0u);
+  EXPECT_GT(p.counters().invalid_sent.load(), 10u);
+}
+
+TEST(Pipeline, SlowProcessingCountsOverrunsAndSkipsToTheNewestFrame) {
+  const std::string log = temp_log("overrun");
+  DaemonConfig c = test_config();
+  c.ring_slots = 2;
+  Pipeline p(c, std::make_unique<ScriptedCamera>(200.0, 1000000), std::make_unique<SlowEstimator>(30),
+             can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  p.request_stop();
+  p.join();
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+  const HealthSnapshot h = snapshot(p.counters());
+  EXPECT_GT(h.frames_captured, 50u);
+  EXPECT_GT(h.ring_overruns, 10u) << "a full ring is counted, never silent";
+  EXPECT_LT(h.frames_processed, h.frames_captured / 3);
+  ASSERT_GE(msgs.status.size(), 3u);
+  const auto& s = msgs.status[msgs.status.size() - 2].decoded.status_msg;
+  EXPECT_NE(s.faults & can::kFaultRingOverrun, 0);
+  EXPECT_GT(s.ring_overruns, 0u) << "the status message carries the overrun count";
+  // The estimate that goes out is from a recent frame: the processing thread
+  // takes the newest, so the age stays near one processing time.
+  const PublishedEstimate latest = p.latest();
+  EXPECT_GT(latest.sequence, 5u);
+  EXPECT_LT(latest.published_ns - latest.captured_ns, 100 * kNsPerMs);
+}
+
+TEST(Pipeline, ExposureControlClosesTheLoopToTheCamera) {
+  const std::string log = temp_log("exposure");
+  DaemonConfig c = test_config();
+  c.exposure_mode = "adaptive";
+  auto camera = std::make_unique<ScriptedCamera>(100.0, 1000000);
+  ScriptedCamera* cam = camera.get();
+  Pipeline p(c, std::move(camera), make_frame_estimator("truth", {}), can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  p.request_stop();
+  p.join();
+  std::filesystem::remove(log);
+  // 10 m/s at 0.1 mm/px: a streak of target_streak_px needs
+  // target_streak_px * 1e-4 m / 10 m/s (e.g. 40 px -> 400 us).
+  const double expected_us = dsp::ExposureLimits{}.target_streak_px * 1e-4 / 10.0 * 1e6;
+  EXPECT_GE(cam->exposure_calls.load(), 1);
+  EXPECT_NEAR(cam->last_exposure_us.load(), expected_us, 0.1 * expected_us);
+  EXPECT_NE(cam->last_exposure_us.load(), c.exposure_initial_us) << "the plan must have changed";
+  EXPECT_GE(p.counters().exposure_updates.load(), 1u);
+}
+
+TEST(Pipeline, BoundedRunSendsExactlyItsPeriods) {
+  const std::string log = temp_log("bounded");
+  DaemonConfig c = test_config();
+  PipelineHooks hooks;
+  hooks.max_ticks = 25;
+  Pipeline p(c, std::make_unique<ScriptedCamera>(100.0, 1000000), make_frame_estimator("truth", {}),
+             can::open_sink("candump:" + log), hooks);
+  p.start();
+  const std::int64_t t0 = mono_now_ns();
+  while (!p.run_complete() && mono_now_ns() - t0 < 5 * kNsPerS) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_TRUE(p.run_complete());
+  p.request_stop();
+  p.join();
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+  EXPECT_EQ(msgs.velocity.size(), 25u);
+  EXPECT_EQ(msgs.velocity_xy.size(), 25u);
+  EXPECT_EQ(msgs.status.size(), 5u);
+  EXPECT_EQ(msgs.timing.size(), 5u);
+  EXPECT_EQ(msgs.unparsed, 0u);
+  // Alive counters step by one per message of each ID.
+  for (std::size_t i = 1; i < msgs.velocity.size(); ++i) {
+    EXPECT_EQ(can::e2e_counter_delta(msgs.velocity[i - 1].decoded.counter, msgs.velocity[i].decoded.counter), 1);
+  }
+}
+
+TEST(Pipeline, StopsWithin100Milliseconds) {
+  const std::string log = temp_log("stop");
+  DaemonConfig c = test_config();
+  Pipeline p(c, std::make_unique<ScriptedCamera>(60.0, 1000000), make_frame_estimator("truth", {}),
+             can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  const std::int64_t t0 = mono_now_ns();
+  p.request_stop();
+  p.join();
+  const std::int64_t took = mono_now_ns() - t0;
+  std::filesystem::remove(log);
+  EXPECT_LT(took, 100 * kNsPerMs);
+}
+
+}  // namespace
+}  // namespace gvs::daemon

@@ -1,0 +1,340 @@
+// gvsd building blocks: the SPSC ring, the seqlock, the configuration, the
+// lever arm. The two-thread tests here are the ones to run under TSan.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+
+#include "gvs/daemon/config.hpp"
+#include "gvs/daemon/frame_estimator.hpp"
+#include "gvs/daemon/health.hpp"
+#include "gvs/daemon/seqlock.hpp"
+#include "gvs/daemon/spsc_ring.hpp"
+
+namespace gvs::daemon {
+namespace {
+
+struct Item {
+  std::uint64_t seq = 0;
+  std::array<std::uint64_t, 32> payload{};
+};
+
+TEST(SpscRing, FullRingRefusesAndNewestSkipsOlder) {
+  SpscRing<int> ring(std::vector<int>(3, 0));
+  for (int i = 1; i <= 3; ++i) {
+    int* slot = ring.try_claim();
+    ASSERT_NE(slot, nullptr);
+    *slot = i;
+    ring.publish();
+  }
+  EXPECT_EQ(ring.try_claim(), nullptr) << "a full ring must refuse, not overwrite";
+  std::uint64_t skipped = 0;
+  int* newest = ring.take_newest(skipped);
+  ASSERT_NE(newest, nullptr);
+  EXPECT_EQ(*newest, 3);
+  EXPECT_EQ(skipped, 2u);
+  // The two older slots are free again while the consumer still holds the newest.
+  EXPECT_NE(ring.try_claim(), nullptr);
+  ring.publish();
+  EXPECT_NE(ring.try_claim(), nullptr);
+  ring.publish();
+  EXPECT_EQ(ring.try_claim(), nullptr);
+  ring.release();
+  EXPECT_NE(ring.try_claim(), nullptr);
+}
+
+TEST(SpscRing, EmptyRingGivesNothing) {
+  SpscRing<int> ring(std::vector<int>(2, 0));
+  std::uint64_t skipped = 99;
+  EXPECT_EQ(ring.take_newest(skipped), nullptr);
+  EXPECT_EQ(skipped, 0u);
+  EXPECT_EQ(ring.take_oldest(), nullptr);
+  EXPECT_THROW(SpscRing<int>(std::vector<int>(1, 0)), std::invalid_argument);
+}
+
+TEST(SpscRing, FifoOrderWithTakeOldest) {
+  SpscRing<int> ring(std::vector<int>(4, 0));
+  for (int i = 0; i < 3; ++i) {
+    int* slot = ring.try_claim();
+    ASSERT_NE(slot, nullptr);
+    *slot = i;
+    ring.publish();
+  }
+  for (int i = 0; i < 3; ++i) {
+    int* s = ring.take_oldest();
+    ASSERT_NE(s, nullptr);
+    EXPECT_EQ(*s, i);
+    ring.release();
+  }
+  EXPECT_EQ(ring.take_oldest(), nullptr);
+}
+
+// Producer and consumer on two threads: every slot the consumer sees is whole
+// (payload matches its sequence number), sequences only increase, and
+// published = consumed + skipped.
+TEST(SpscRing, TwoThreadsNeverTearAndAccountForEveryItem) {
+  SpscRing<Item> ring(std::vector<Item>(4));
+  constexpr std::uint64_t kItems = 200000;
+  std::atomic<bool> done{false};
+  std::uint64_t refused = 0;
+  std::thread producer([&] {
+    for (std::uint64_t s = 1; s <= kItems; ++s) {
+      Item* slot = ring.try_claim();
+      if (slot == nullptr) {
+        ++refused;
+        continue;
+      }
+      slot->seq = s;
+      slot->payload.fill(s * 7);
+      ring.publish();
+    }
+    done.store(true);
+  });
+  std::uint64_t consumed = 0, skipped_total = 0, last = 0, torn = 0, backwards = 0;
+  for (;;) {
+    const bool finished = done.load();
+    std::uint64_t skipped = 0;
+    Item* item = ring.take_newest(skipped);
+    if (item == nullptr) {
+      if (finished) break;
+      continue;
+    }
+    skipped_total += skipped;
+    ++consumed;
+    for (std::uint64_t v : item->payload) torn += v != item->seq * 7 ? 1 : 0;
+    backwards += item->seq <= last ? 1 : 0;
+    last = item->seq;
+    ring.release();
+  }
+  producer.join();
+  EXPECT_EQ(torn, 0u);
+  EXPECT_EQ(backwards, 0u);
+  EXPECT_EQ(consumed + skipped_total + refused, kItems);
+  EXPECT_GT(consumed, 0u);
+}
+
+struct Sample {
+  std::uint64_t a = 0;
+  double b = 0.0;
+  std::int64_t c = 0;
+  std::array<std::uint32_t, 9> d{};
+};
+
+TEST(Seqlock, ReadsTheLastWriteAndCountsVersions) {
+  Seqlock<Sample> lock;
+  EXPECT_EQ(lock.version(), 0u);
+  EXPECT_EQ(lock.read().a, 0u);
+  Sample s;
+  s.a = 5;
+  s.b = 2.5;
+  s.d[8] = 77;
+  lock.write(s);
+  EXPECT_EQ(lock.version(), 1u);
+  const Sample r = lock.read();
+  EXPECT_EQ(r.a, 5u);
+  EXPECT_EQ(r.b, 2.5);
+  EXPECT_EQ(r.d[8], 77u);
+}
+
+TEST(Seqlock, ReaderNeverSeesAHalfWrittenValue) {
+  Seqlock<Sample> lock;
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    for (std::uint64_t i = 1; i <= 300000; ++i) {
+      Sample s;
+      s.a = i;
+      s.b = static_cast<double>(i);
+      s.c = -static_cast<std::int64_t>(i);
+      s.d.fill(static_cast<std::uint32_t>(i));
+      lock.write(s);
+    }
+    done.store(true);
+  });
+  std::uint64_t reads = 0, torn = 0, last = 0, backwards = 0;
+  while (!done.load()) {
+    const Sample s = lock.read();
+    ++reads;
+    bool ok = s.b == static_cast<double>(s.a) && s.c == -static_cast<std::int64_t>(s.a);
+    for (std::uint32_t v : s.d) ok = ok && v == static_cast<std::uint32_t>(s.a);
+    torn += ok ? 0 : 1;
+    backwards += s.a < last ? 1 : 0;
+    last = s.a;
+  }
+  writer.join();
+  EXPECT_EQ(torn, 0u);
+  EXPECT_EQ(backwards, 0u);
+  EXPECT_GT(reads, 0u);
+  EXPECT_EQ(lock.read().a, 300000u);
+}
+
+// ---- configuration ----
+
+std::filesystem::path example_config() {
+  return std::filesystem::path(GVSD_SOURCE_DIR) / "systemd" / "gvsd.toml";
+}
+
+TEST(Config, TheDocumentedExampleParsesToTheDefaults) {
+  const DaemonConfig file = load_config_file(example_config());
+  const DaemonConfig defaults;
+  EXPECT_TRUE(restart_only_changes(file, defaults).empty());
+  EXPECT_EQ(file.source_uri, "sim:sine");
+  EXPECT_EQ(file.can_uri, "candump:-");
+  EXPECT_EQ(file.staleness_limit_ms, defaults.staleness_limit_ms);
+  EXPECT_EQ(file.exposure_mode, defaults.exposure_mode);
+  EXPECT_EQ(file.log_level, defaults.log_level);
+  EXPECT_EQ(file.health_interval_s, defaults.health_interval_s);
+  EXPECT_EQ(file.base_id, 0x300u);
+  EXPECT_EQ(file.capture_thread.priority, 80);
+}
+
+TEST(Config, ReadsEverySection) {
+  const DaemonConfig c = parse_config(R"(
+[source]
+uri = "replay:/data/run1"
+ring_slots = 8
+[can]
+uri = "socketcan:vcan0"
+staleness_limit_ms = 30
+base_id = 0x400
+[camera]
+mm_per_px = 0.2
+mount_yaw_deg = -2.5
+lever_arm_x_m = 1.2
+[estimator]
+method = "thesis"
+[exposure]
+mode = "double-pulse"
+[threads]
+sender = { priority = 95, cpu = 1 }
+lock_memory = false
+[log]
+level = "debug"
+)",
+                                      "test.toml");
+  EXPECT_EQ(c.source_uri, "replay:/data/run1");
+  EXPECT_EQ(c.ring_slots, 8);
+  EXPECT_EQ(c.can_uri, "socketcan:vcan0");
+  EXPECT_EQ(c.staleness_limit_ms, 30.0);
+  EXPECT_EQ(c.base_id, 0x400u);
+  EXPECT_EQ(c.camera.mm_per_px, 0.2);
+  EXPECT_EQ(c.camera.mount_yaw_deg, -2.5);
+  EXPECT_EQ(c.lever_arm_x_m, 1.2);
+  EXPECT_EQ(c.estimator_method, "thesis");
+  EXPECT_EQ(c.exposure_mode, "double-pulse");
+  EXPECT_EQ(c.sender_thread.priority, 95);
+  EXPECT_EQ(c.sender_thread.cpu, 1);
+  EXPECT_FALSE(c.lock_memory);
+  EXPECT_EQ(c.log_level, "debug");
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    (void)parse_config(text, "bad.toml");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Config, UnknownKeyIsNamedWithTheKnownOnes) {
+  const std::string e = error_of("[can]\nstalenes_limit_ms = 20\n");
+  EXPECT_NE(e.find("bad.toml:2"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown key 'stalenes_limit_ms' in [can]"), std::string::npos) << e;
+  EXPECT_NE(e.find("staleness_limit_ms"), std::string::npos) << e;
+  EXPECT_NE(error_of("[cann]\nuri = \"x\"\n").find("unknown key 'cann'"), std::string::npos);
+  EXPECT_NE(error_of("[threads.capture]\nprio = 3\n").find("[threads.capture]"), std::string::npos);
+}
+
+TEST(Config, WrongTypeNamesKeyAndRange) {
+  const std::string e = error_of("[can]\nstaleness_limit_ms = \"fifty\"\n");
+  EXPECT_NE(e.find("[can] staleness_limit_ms must be a number"), std::string::npos) << e;
+  EXPECT_NE(e.find("1 .. 1000 ms"), std::string::npos) << e;
+  EXPECT_NE(error_of("[source]\nring_slots = 4.5\n").find("ring_slots must be an integer"), std::string::npos);
+  EXPECT_NE(error_of("[threads]\nlock_memory = 1\n").find("lock_memory must be true or false"), std::string::npos);
+}
+
+TEST(Config, OutOfRangeNamesKeyAndRange) {
+  const std::string e = error_of("[threads.sender]\npriority = 120\n");
+  EXPECT_NE(e.find("[threads.sender] priority = 120 is out of range"), std::string::npos) << e;
+  EXPECT_NE(e.find("0 .. 99"), std::string::npos) << e;
+  EXPECT_NE(error_of("[log]\nlevel = \"loud\"\n").find("one of: trace"), std::string::npos);
+  EXPECT_NE(error_of("[can]\nperiod_ms = 20\nstatus_period_ms = 50\n").find("multiple of period_ms"),
+            std::string::npos);
+  EXPECT_NE(error_of("[exposure]\ninitial_us = 5000\nmax_us = 3000\n").find("initial_us <= max_us"),
+            std::string::npos);
+  EXPECT_NE(error_of("[camera]\nmm_per_px = 0\n").find("mm_per_px = 0 is out of range"), std::string::npos);
+  EXPECT_NE(error_of("not toml [").find("not valid TOML"), std::string::npos);
+}
+
+TEST(Config, MissingFileSaysSo) {
+  EXPECT_THROW((void)load_config_file("/nonexistent/gvsd.toml"), ConfigError);
+}
+
+TEST(Config, RestartOnlyChangesAreListedByKey) {
+  DaemonConfig a;
+  DaemonConfig b;
+  b.staleness_limit_ms = 20;  // reloadable
+  b.log_level = "debug";      // reloadable
+  EXPECT_TRUE(restart_only_changes(a, b).empty());
+  b.source_uri = "sim:const";
+  b.sender_thread.priority = 10;
+  const auto changed = restart_only_changes(a, b);
+  ASSERT_EQ(changed.size(), 2u);
+  EXPECT_EQ(changed[0], "source.uri");
+  EXPECT_EQ(changed[1], "threads.sender");
+}
+
+// ---- lever arm ----
+
+TEST(LeverArm, YawRateMovesTheVelocityToTheReferencePoint) {
+  // Car turning left at 30 deg/s, sensor 1.5 m ahead of the reference point
+  // and 0.2 m to the left: v_sensor = v_ref + omega x r.
+  dsp::VelocityEstimate e;
+  e.has_speed = e.has_direction = e.has_yaw_rate = true;
+  const double omega = 30.0 * M_PI / 180.0;
+  const double vx_ref = 10.0, vy_ref = 0.0, rx = 1.5, ry = 0.2;
+  e.vx_mps = vx_ref - omega * ry;
+  e.vy_mps = vy_ref + omega * rx;
+  e.yaw_rate_dps = 30.0;
+  e.speed_mps = std::hypot(e.vx_mps, e.vy_mps);
+  apply_lever_arm(e, rx, ry);
+  EXPECT_NEAR(e.vx_mps, vx_ref, 1e-12);
+  EXPECT_NEAR(e.vy_mps, vy_ref, 1e-12);
+  EXPECT_NEAR(e.speed_mps, 10.0, 1e-12);
+  EXPECT_NEAR(e.direction_deg, 0.0, 1e-9);
+}
+
+TEST(LeverArm, WithoutYawRateTheEstimateStaysAtTheSensor) {
+  dsp::VelocityEstimate e;
+  e.has_speed = e.has_direction = true;
+  e.vx_mps = 5.0;
+  e.vy_mps = 1.0;
+  apply_lever_arm(e, 1.0, 1.0);
+  EXPECT_EQ(e.vx_mps, 5.0);
+  EXPECT_EQ(e.vy_mps, 1.0);
+}
+
+TEST(Health, LineCarriesTheCounters) {
+  HealthSnapshot prev;
+  HealthSnapshot now;
+  now.frames_captured = 300;
+  now.ring_overruns = 2;
+  now.late_wakeups = 4;
+  now.send_errors = 1;
+  now.estimator_failures = 7;
+  now.frames_dropped = 3;
+  PublishedEstimate latest;
+  const std::string line = format_health_line(now, prev, latest, 0, 5.0);
+  EXPECT_NE(line.find("capture 300 frames (60.0 fps)"), std::string::npos) << line;
+  EXPECT_NE(line.find("ring overruns 2 (+2)"), std::string::npos) << line;
+  EXPECT_NE(line.find("dropped 3"), std::string::npos) << line;
+  EXPECT_NE(line.find("late wake-ups 4"), std::string::npos) << line;
+  EXPECT_NE(line.find("send errors 1"), std::string::npos) << line;
+  EXPECT_NE(line.find("estimator failures 7"), std::string::npos) << line;
+  EXPECT_NE(line.find("no estimate yet"), std::string::npos) << line;
+}
+
+}  // namespace
+}  // namespace gvs::daemon

@@ -1,0 +1,112 @@
+// Accuracy of the "gvs" estimator on short simulated runs
+// (gvs::drivers::Simulator), against the issue's table. Each run is a few
+// seconds of simulated driving; docs/estimator.md has the full-length figures.
+#include <gtest/gtest.h>
+
+#include "gvs_sim_eval.hpp"
+
+namespace gvs::test {
+namespace {
+
+using dsp::ExposureMode;
+
+drivers::SimulatorConfig run(const char* scenario, double seconds,
+                             drivers::LightLevel light = drivers::LightLevel::normal) {
+  drivers::SimulatorConfig c;
+  c.scenario = scenario;
+  c.seconds = seconds;
+  c.light = light;
+  c.seed = 3;
+  return c;
+}
+
+const BandScore& band(const RunScore& s, int i) { return s.bands[static_cast<std::size_t>(i)]; }
+
+TEST(GvsAccuracy, CrawlWithFixedExposurePairsOfFrames) {
+  // 0.1 -> 2 m/s with direction changes and yaw, 3 ms exposure.
+  const RunScore s = run_and_score(run("crawl", 4.5), ExposureMode::fixed);
+  print_score("crawl fixed 4.5 s", s);
+  const BandScore& b = band(s, 0);  // 0.5-5 km/h
+  ASSERT_GT(b.frames, 100);
+  EXPECT_GE(b.dir_coverage(), 0.99);
+  EXPECT_LE(b.dir_rms(), 0.5);
+  EXPECT_LE(b.dir_max, 2.0);
+  EXPECT_GE(b.speed_coverage(), 0.99);
+  EXPECT_LE(b.speed_rms(), 0.02);
+  EXPECT_GT(s.yaw_frames, 100);
+  EXPECT_LE(s.yaw_rms(), 4.0);  // deg/s; yaw has no figure in the table
+  EXPECT_LE(s.confident_bad, s.frames / 100);
+}
+
+TEST(GvsAccuracy, StandstillThenPullingAway) {
+  const RunScore s = run_and_score(run("stop", 2.6), ExposureMode::fixed);
+  print_score("stop fixed 2.6 s", s);
+  ASSERT_GT(s.still_frames, 100);
+  EXPECT_GE(s.still_ok, s.still_frames * 99 / 100);
+  EXPECT_LT(s.still_speed_max, 0.01);
+  EXPECT_EQ(s.confident_bad, 0);
+}
+
+TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
+  // The exposure controller starts from 3 ms continuous and switches to
+  // double pulses after the first estimate; the first 0.2 s are excluded.
+  const RunScore s = run_and_score(run("sine", 1.7), ExposureMode::double_pulse, 0.2);
+  print_score("sine double-pulse 1.7 s", s);
+  const BandScore& b = band(s, 3);  // 60-140 km/h
+  ASSERT_GT(b.frames, 70);
+  EXPECT_GE(b.dir_coverage(), 0.99);
+  EXPECT_LE(b.dir_rms(), 0.1);
+  EXPECT_LE(b.dir_max, 0.5);
+  EXPECT_GE(b.speed_coverage(), 0.99);
+  EXPECT_LE(b.speed_rms(), 0.0025);
+  EXPECT_EQ(s.confident_bad, 0);
+}
+
+TEST(GvsAccuracy, AdaptiveStrobeAt60KmhClosedLoop) {
+  // Issue targets here (speed 1 % RMS on >= 99 % of frames, direction
+  // 0.3 / 1.0 deg) are NOT yet met (docs/estimator.md has the figures); this
+  // asserts what must hold already: no wrong speed, no sign error.
+  const RunScore s = run_and_score(run("sine", 1.7), ExposureMode::adaptive, 0.2);
+  print_score("sine adaptive 1.7 s", s);
+  const BandScore& b = band(s, 3);
+  ASSERT_GT(b.frames, 70);
+  EXPECT_GE(b.dir_coverage(), 0.99);
+  EXPECT_LE(b.dir_max, 2.0);
+  EXPECT_GE(b.speed_coverage(), 0.7);
+  EXPECT_LE(b.speed_max, 0.05);
+}
+
+TEST(GvsAccuracy, FixedExposureAt60KmhGivesDirectionAndNoFalseSpeed) {
+  // 3 ms at 60 km/h: 500 px streaks, speed not measurable.
+  const RunScore s = run_and_score(run("sine", 1.5), ExposureMode::fixed);
+  print_score("sine fixed 1.5 s", s);
+  const BandScore& b = band(s, 3);
+  ASSERT_GT(b.frames, 70);
+  EXPECT_GE(b.dir_coverage(), 0.99);
+  EXPECT_LE(b.dir_rms(), 0.2);  // issue: 0.1 (not yet met, docs/estimator.md)
+  EXPECT_LE(b.dir_max, 1.0);    // issue: 0.5
+  EXPECT_LE(b.speed_max, 0.05); // where a speed is given at all, never off by more than 5 %
+}
+
+TEST(GvsAccuracy, OverExposedFramesKeepTheDirection) {
+  const RunScore s = run_and_score(run("sine", 1.5, drivers::LightLevel::over), ExposureMode::fixed);
+  print_score("sine fixed over-exposed 1.5 s", s);
+  const BandScore& b = band(s, 3);
+  ASSERT_GT(b.frames, 70);
+  EXPECT_GE(b.dir_coverage(), 0.99);
+  EXPECT_LE(b.dir_rms(), 0.3);  // issue: 0.2 (not yet met, docs/estimator.md)
+  EXPECT_LE(b.dir_max, 1.0);
+  EXPECT_LE(b.speed_max, 0.05);
+}
+
+TEST(GvsAccuracy, UnderExposedLongStreaksAreFlaggedNotTrusted) {
+  // Mean grey ~10 and 500 px streaks: the texture nearly averages out and the
+  // sensor's column pattern pulls the axis. The estimator must say so.
+  const RunScore s = run_and_score(run("sine", 1.5, drivers::LightLevel::under), ExposureMode::fixed);
+  print_score("sine fixed under-exposed 1.5 s", s);
+  EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_LE(band(s, 3).speed_max, 0.05);
+}
+
+}  // namespace
+}  // namespace gvs::test

@@ -1,0 +1,174 @@
+// Unit tests of the gvs estimator's building blocks on synthetic frames
+// (gvs_synth.hpp): phase correlation, streak axis, streak length, double
+// image, frame checks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "gvs/dsp/blur_analysis.hpp"
+#include "gvs/dsp/frame_check.hpp"
+#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/phase_correlation.hpp"
+#include "gvs/dsp/spectrum.hpp"
+#include "gvs_synth.hpp"
+
+namespace gvs::dsp {
+namespace {
+
+const cv::Size kFrame(512, 384);
+
+const cv::Mat& texture() {
+  static const cv::Mat tex = test::make_texture(1024, 7);
+  return tex;
+}
+
+/// Axis angle in image axes, atan2(u_col, u_row), wrapped to (-90, 90].
+double axis_deg(double u_row, double u_col) { return wrap_axis_deg(rad_to_deg(std::atan2(u_col, u_row))); }
+
+struct ShiftCase {
+  double d_row;
+  double d_col;
+};
+
+class PhaseCorrelationShift : public ::testing::TestWithParam<ShiftCase> {};
+
+TEST_P(PhaseCorrelationShift, RecoversSubPixelShiftAndSign) {
+  const ShiftCase s = GetParam();
+  test::Sensor sensor;
+  const cv::Mat a = test::render_frame(texture(), kFrame, 10.0, 20.0, 0, 0, 0, 0, test::continuous(0), sensor, 1);
+  const cv::Mat b = test::render_frame(texture(), kFrame, 10.0 + s.d_row, 20.0 + s.d_col, 0, 0, 0, 0,
+                                       test::continuous(0), sensor, 2);
+  WindowedSpectrum spectrum(kFrame);
+  cv::Mat fa;
+  cv::Mat fb;
+  spectrum.compute(a, fa);
+  spectrum.compute(b, fb);
+  PhaseCorrelator pc(kFrame);
+  const ImageShift shift = pc.correlate(fa, fb, 1.5, 200.0);
+  ASSERT_TRUE(shift.found);
+  EXPECT_NEAR(shift.d_row_px, s.d_row, 0.08);
+  EXPECT_NEAR(shift.d_col_px, s.d_col, 0.08);
+  EXPECT_GT(shift.peak_to_rms, 20.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shifts, PhaseCorrelationShift,
+                         ::testing::Values(ShiftCase{23.25, -7.5}, ShiftCase{-60.0, 40.75},
+                                           ShiftCase{150.4, 3.3}, ShiftCase{2.5, 0.0},
+                                           ShiftCase{-0.3, 95.6}));
+
+TEST(PhaseCorrelation, FixedPatternNoiseDoesNotWinAtZeroShift) {
+  // Weak texture, strong fixed-pattern noise: the zero-lag peak is the highest
+  // on the surface, but it is excluded and the true shift is found.
+  test::Sensor sensor;
+  sensor.contrast_grey = 6.0;
+  sensor.fpn_grey = 6.0;
+  const cv::Mat a = test::render_frame(texture(), kFrame, 0, 0, 0, 0, 0, 0, test::continuous(0), sensor, 1);
+  const cv::Mat b = test::render_frame(texture(), kFrame, 12.5, -4.0, 0, 0, 0, 0, test::continuous(0), sensor, 2);
+  WindowedSpectrum spectrum(kFrame);
+  cv::Mat fa;
+  cv::Mat fb;
+  spectrum.compute(a, fa);
+  spectrum.compute(b, fb);
+  PhaseCorrelator pc(kFrame);
+  const ImageShift shift = pc.correlate(fa, fb, 1.5, 200.0);
+  ASSERT_TRUE(shift.found);
+  EXPECT_GT(pc.surface().at<float>(0, 0), 0.5 * shift.peak);  // the FPN peak is really there
+  EXPECT_NEAR(shift.d_row_px, 12.5, 0.15);
+  EXPECT_NEAR(shift.d_col_px, -4.0, 0.15);
+}
+
+struct StreakCase {
+  double angle_deg;  // image axes: atan2(col, row)
+  double length_px;
+};
+
+class StreakAnalysis : public ::testing::TestWithParam<StreakCase> {};
+
+TEST_P(StreakAnalysis, AxisAndLength) {
+  const StreakCase s = GetParam();
+  const double a = deg_to_rad(s.angle_deg);
+  test::Sensor sensor;
+  const cv::Mat img = test::render_frame(texture(), kFrame, 0, 0, 0, std::cos(a), std::sin(a), 0,
+                                         test::continuous(s.length_px), sensor, 3);
+  WindowedSpectrum spectrum(kFrame);
+  cv::Mat f;
+  spectrum.compute(img, f);
+  BlurAnalyzer blur(kFrame);
+  const StreakAxis axis = blur.streak_axis(f);
+  const double err_axis = wrap_axis_deg(axis_deg(axis.u_row, axis.u_col) - s.angle_deg);
+  std::printf("streak %5.1f deg %5.1f px: axis err %+.3f deg, anisotropy %.2f\n", s.angle_deg,
+              s.length_px, err_axis, axis.anisotropy);
+  EXPECT_LT(std::abs(err_axis), s.length_px >= 30 ? 0.3 : 1.0);
+  EXPECT_GT(axis.anisotropy, 0.3);
+
+  const StreakLength len = blur.streak_length(f, axis, 5.0, 160.0);
+  ASSERT_TRUE(len.found);
+  const double err_len = len.length_px / s.length_px - 1.0;
+  const double err_peak_axis = wrap_axis_deg(axis_deg(len.d_row_px, len.d_col_px) - s.angle_deg);
+  std::printf("   length %.2f px (err %+.2f %%), depth %.2f, peak axis err %+.3f deg\n", len.length_px,
+              100.0 * err_len, len.depth, err_peak_axis);
+  EXPECT_LT(std::abs(err_len), 0.01);
+  EXPECT_GT(len.depth, 0.1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Angles, StreakAnalysis,
+                         ::testing::Values(StreakCase{0.0, 40.0}, StreakCase{17.0, 60.0},
+                                           StreakCase{45.0, 25.0}, StreakCase{90.0, 80.0},
+                                           StreakCase{-62.5, 120.0}, StreakCase{133.0, 12.0}));
+
+TEST(StreakAnalysis, NoBlurIsIsotropic) {
+  test::Sensor sensor;
+  const cv::Mat img = test::render_frame(texture(), kFrame, 0, 0, 0, 0, 0, 0, test::continuous(0), sensor, 3);
+  WindowedSpectrum spectrum(kFrame);
+  cv::Mat f;
+  spectrum.compute(img, f);
+  BlurAnalyzer blur(kFrame);
+  EXPECT_LT(blur.streak_axis(f).anisotropy, 0.1);
+}
+
+TEST(DoubleImage, DisplacementAndEnergySign) {
+  // Two 1-unit pulses 90 units apart, the first twice as strong, motion at 70 deg.
+  const double a = deg_to_rad(70.0);
+  test::Sensor sensor;
+  const std::vector<test::Pulse> pulses = {{0.0, 1.0, 2.0}, {90.0, 1.0, 1.0}};
+  const cv::Mat img = test::render_frame(texture(), kFrame, 0, 0, 0, std::cos(a), std::sin(a), 0,
+                                         pulses, sensor, 4);
+  WindowedSpectrum spectrum(kFrame);
+  cv::Mat f;
+  spectrum.compute(img, f);
+  BlurAnalyzer blur(kFrame);
+  DoubleImage d = blur.double_image(f, 4.0, 170.0);
+  ASSERT_TRUE(d.found);
+  const double len = std::hypot(d.d_row_px, d.d_col_px);
+  EXPECT_NEAR(len, 90.0, 0.2);
+  EXPECT_NEAR(wrap_axis_deg(axis_deg(d.d_row_px, d.d_col_px) - 70.0), 0.0, 0.1);
+  EXPECT_GT(d.height, 0.2);
+  double_image_asymmetry(img, d);
+  // d as found points along +70 deg or -110 deg; the asymmetry must say which.
+  const bool found_forward = d.d_row_px * std::cos(a) + d.d_col_px * std::sin(a) > 0.0;
+  std::printf("double image: %.2f px, height %.2f, asymmetry %+.2f, skewness %.2f\n", len, d.height,
+              d.asymmetry, d.skewness);
+  EXPECT_GT(d.skewness, 0.3);
+  EXPECT_EQ(d.asymmetry > 0.0, found_forward);
+  EXPECT_GT(std::abs(d.asymmetry), 0.2);
+}
+
+TEST(FrameCheck, NamesWhyThereIsNothingToMeasure) {
+  cv::Mat dark(kFrame, CV_8UC1, cv::Scalar(1));
+  EXPECT_STREQ(frame_problem(measure_frame(dark)), "dark");
+  cv::Mat saturated(kFrame, CV_8UC1, cv::Scalar(255));
+  EXPECT_STREQ(frame_problem(measure_frame(saturated)), "saturated");
+  cv::Mat uniform(kFrame, CV_8UC1, cv::Scalar(120));
+  EXPECT_STREQ(frame_problem(measure_frame(uniform)), "no-texture");
+  test::Sensor sensor;
+  const cv::Mat good = test::render_frame(texture(), kFrame, 0, 0, 0, 0, 0, 0, test::continuous(0), sensor, 5);
+  EXPECT_EQ(frame_problem(measure_frame(good)), nullptr);
+  sensor.mean_grey = 10.0;
+  sensor.contrast_grey = 3.0;
+  const cv::Mat under = test::render_frame(texture(), kFrame, 0, 0, 0, 0, 0, 0, test::continuous(0), sensor, 5);
+  EXPECT_EQ(frame_problem(measure_frame(under)), nullptr);
+}
+
+}  // namespace
+}  // namespace gvs::dsp

@@ -1,0 +1,256 @@
+// The "gvs" estimator on synthetic sequences (gvs_synth.hpp): signs, mount
+// yaw, standstill with fixed-pattern noise, yaw rate, sign continuity into
+// single-frame blur, double pulse, frames with nothing to measure.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "gvs/dsp/estimator.hpp"
+#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/gvs_estimator.hpp"
+#include "gvs_synth.hpp"
+
+namespace gvs::dsp {
+namespace {
+
+constexpr double kFramePeriodUs = 1e6 / 60.0;
+
+const cv::Mat& texture() {
+  static const cv::Mat tex = test::make_texture(1024, 11);
+  return tex;
+}
+
+/// A car moving at constant vehicle velocity (m/s) and yaw rate (deg/s),
+/// filmed with `exposure` (pulses in us from the frame start).
+struct SynthRun {
+  CameraGeometry cam;
+  Vec2 v_mps{1.0, 0.0};
+  double yaw_dps = 0.0;
+  ExposurePlan exposure;
+  test::Sensor sensor;
+
+  [[nodiscard]] FrameView frame(int i, cv::Mat& storage) const {
+    // Image velocity in px per microsecond; ground position at the frame start.
+    const Vec2 px_per_us = velocity_to_image_shift(v_mps, 1e-6, cam);
+    const double omega_per_us = deg_to_rad(yaw_dps) * 1e-6;
+    const double t0 = i * kFramePeriodUs;
+    std::vector<test::Pulse> pulses;
+    if (exposure.pulse_count == 0) {
+      pulses.push_back({0.0, exposure.exposure_us, 1.0});
+    } else {
+      for (std::size_t k = 0; k < exposure.pulse_count; ++k) {
+        pulses.push_back({exposure.pulses[k].start_us, exposure.pulses[k].duration_us, 1.0});
+      }
+    }
+    storage = test::render_frame(texture(), {cam.width_px, cam.height_px}, px_per_us.x * t0,
+                                 px_per_us.y * t0, omega_per_us * t0, px_per_us.x, px_per_us.y,
+                                 omega_per_us, pulses, sensor, 100 + static_cast<std::uint64_t>(i));
+    FrameView f;
+    f.gray = storage;
+    f.index = i;
+    f.t_ns = static_cast<std::int64_t>(std::llround(t0 * 1000.0));
+    f.exposure = exposure;
+    return f;
+  }
+};
+
+std::unique_ptr<VelocityEstimator> make_gvs(const CameraGeometry& cam) {
+  EstimatorConfig cfg;
+  cfg.method = "gvs";
+  cfg.camera = cam;
+  return make_estimator(cfg);
+}
+
+double dir_error(const VelocityEstimate& e, Vec2 v) { return wrap_deg(e.direction_deg - direction_deg(v)); }
+
+TEST(GvsEstimator, IsRegisteredInTheFactory) {
+  const std::vector<std::string> names = estimator_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), "gvs"), names.end());
+  EXPECT_NE(make_gvs(CameraGeometry{}), nullptr);
+}
+
+struct PairCase {
+  double vx;
+  double vy;
+  double mount_yaw_deg;
+};
+
+class GvsPair : public ::testing::TestWithParam<PairCase> {};
+
+TEST_P(GvsPair, SlowMotionGivesSignedVelocityFromFramePairs) {
+  const PairCase c = GetParam();
+  SynthRun run;
+  run.cam.mount_yaw_deg = c.mount_yaw_deg;
+  run.v_mps = {c.vx, c.vy};
+  auto est = make_gvs(run.cam);
+  cv::Mat img;
+  for (int i = 0; i < 5; ++i) {
+    const FrameView f = run.frame(i, img);
+    const VelocityEstimate e = est->estimate(f);
+    EXPECT_EQ(e.t_ns, f.t_ns + 1500000);  // mid-exposure of a 3 ms exposure
+    if (i == 0) continue;  // no pair yet
+    EXPECT_STREQ(e.method, "pair") << "frame " << i;
+    ASSERT_TRUE(e.has_speed && e.has_direction) << "frame " << i;
+    EXPECT_NEAR(e.speed_mps, std::hypot(c.vx, c.vy), 0.01 * std::hypot(c.vx, c.vy));
+    EXPECT_NEAR(dir_error(e, run.v_mps), 0.0, 0.3);
+    EXPECT_NEAR(e.vx_mps, c.vx, 0.02);
+    EXPECT_NEAR(e.vy_mps, c.vy, 0.02);
+    EXPECT_TRUE(e.has_yaw_rate);
+    EXPECT_NEAR(e.yaw_rate_dps, 0.0, 3.0);
+    EXPECT_GT(e.quality, 0.5);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Directions, GvsPair,
+                         ::testing::Values(PairCase{0.8, 0.1, 0.0}, PairCase{-0.5, 0.0, 0.0},
+                                           PairCase{0.3, -0.6, 0.0}, PairCase{0.8, 0.1, 12.0},
+                                           PairCase{-0.4, 0.4, -30.0}));
+
+TEST(GvsEstimator, YawRateFromTheTwoHalves) {
+  SynthRun run;
+  run.v_mps = {0.6, 0.0};
+  run.yaw_dps = 40.0;
+  auto est = make_gvs(run.cam);
+  cv::Mat img;
+  for (int i = 0; i < 5; ++i) {
+    const VelocityEstimate e = est->estimate(run.frame(i, img));
+    if (i == 0) continue;
+    ASSERT_TRUE(e.has_yaw_rate) << "frame " << i;
+    EXPECT_NEAR(e.yaw_rate_dps, 40.0, 4.0) << "frame " << i;
+  }
+}
+
+TEST(GvsEstimator, StandstillIsZeroSpeedWithoutDirectionDespiteFixedPatternNoise) {
+  SynthRun run;
+  run.v_mps = {0.0, 0.0};
+  run.sensor.fpn_grey = 4.0;
+  auto est = make_gvs(run.cam);
+  cv::Mat img;
+  for (int i = 0; i < 4; ++i) {
+    const VelocityEstimate e = est->estimate(run.frame(i, img));
+    if (i == 0) continue;
+    EXPECT_STREQ(e.method, "still");
+    EXPECT_TRUE(e.has_speed);
+    EXPECT_LT(e.speed_mps, 0.01);
+    EXPECT_FALSE(e.has_direction);
+    EXPECT_GT(e.quality, 0.5);
+  }
+}
+
+TEST(GvsEstimator, BackwardsStaysBackwardsWhenFramesStopOverlapping) {
+  // Reversing slowly (pairs give the sign), then frames 4.. are fast: only
+  // the streak is left, whose sign must come from continuity.
+  SynthRun slow;
+  slow.v_mps = {-0.6, -0.05};
+  auto est = make_gvs(slow.cam);
+  cv::Mat img;
+  for (int i = 0; i < 3; ++i) {
+    const VelocityEstimate e = est->estimate(slow.frame(i, img));
+    if (i > 0) {
+      EXPECT_STREQ(e.method, "pair");
+    }
+  }
+  SynthRun fast = slow;
+  fast.v_mps = {-6.0, -0.5};           // 21.7 km/h: 360 px between frames
+  fast.exposure.exposure_us = 1000.0;  // 60 px streak: measurable
+  for (int i = 3; i < 9; ++i) {
+    const VelocityEstimate e = est->estimate(fast.frame(i, img));
+    const std::string method = e.method;
+    EXPECT_TRUE(method == "blur-cont" || method == "streak-cont") << "frame " << i << " " << method;
+    ASSERT_TRUE(e.has_direction);
+    EXPECT_NEAR(dir_error(e, fast.v_mps), 0.0, 0.5) << "frame " << i;
+    // The jump 0.6 -> 6 m/s in one frame is not physical: the streak-length
+    // search stays gated around the last speed for 3 frames (no speed rather
+    // than a wrong one), then searches everywhere and finds it.
+    if (i >= 6) {
+      ASSERT_TRUE(e.has_speed) << "frame " << i;
+      EXPECT_NEAR(e.speed_mps, std::hypot(-6.0, -0.5), 0.02 * 6.0) << "frame " << i;
+    }
+  }
+}
+
+TEST(GvsEstimator, WithoutHistoryASingleBlurredFrameAssumesForwardAndSaysSo) {
+  SynthRun run;
+  run.v_mps = {-8.0, 1.0};
+  run.exposure.exposure_us = 600.0;  // 48 px streak
+  auto est = make_gvs(run.cam);
+  cv::Mat img;
+  const VelocityEstimate e = est->estimate(run.frame(0, img));
+  EXPECT_STREQ(e.method, "blur-fwd");
+  ASSERT_TRUE(e.has_direction);
+  EXPECT_NEAR(dir_error(e, {8.0, -1.0}), 0.0, 0.5);  // the forward reading of the axis
+  EXPECT_LT(e.quality, 0.5);
+}
+
+TEST(GvsEstimator, DoublePulseMeasuresTheDisplacement) {
+  SynthRun run;
+  run.v_mps = {30.0, 2.0};  // 108 km/h
+  run.exposure.pulse_count = 2;
+  run.exposure.pulses[0] = {0.0, 3.0};
+  run.exposure.pulses[1] = {300.0, 3.0};
+  run.exposure.exposure_us = 303.0;
+  auto est = make_gvs(run.cam);
+  cv::Mat img;
+  for (int i = 0; i < 4; ++i) {
+    const VelocityEstimate e = est->estimate(run.frame(i, img));
+    EXPECT_EQ(std::string(e.method).rfind("dpiv", 0), 0u) << e.method;
+    ASSERT_TRUE(e.has_speed && e.has_direction);
+    EXPECT_NEAR(e.speed_mps, std::hypot(30.0, 2.0), 0.005 * 30.0);
+    EXPECT_NEAR(dir_error(e, run.v_mps), 0.0, 0.1);
+  }
+}
+
+TEST(GvsEstimator, UnequalPulseEnergiesDecideTheSignWithoutHistory) {
+  SynthRun run;
+  run.v_mps = {-25.0, 3.0};  // backwards: the forward prior would be wrong
+  run.exposure.pulse_count = 2;
+  run.exposure.pulses[0] = {0.0, 4.0};
+  run.exposure.pulses[1] = {300.0, 2.0};  // half the energy
+  run.exposure.exposure_us = 302.0;
+  auto est = make_gvs(run.cam);
+  cv::Mat img;
+  const VelocityEstimate e = est->estimate(run.frame(0, img));
+  EXPECT_STREQ(e.method, "dpiv-energy");
+  ASSERT_TRUE(e.has_direction);
+  EXPECT_NEAR(dir_error(e, run.v_mps), 0.0, 0.2);
+}
+
+TEST(GvsEstimator, NothingToMeasureGivesQualityZeroAndTheReason) {
+  auto est = make_gvs(CameraGeometry{});
+  FrameView f;
+  f.gray = cv::Mat(384, 512, CV_8UC1, cv::Scalar(0));
+  VelocityEstimate e = est->estimate(f);
+  EXPECT_STREQ(e.method, "dark");
+  EXPECT_EQ(e.quality, 0.0);
+  EXPECT_FALSE(e.has_speed || e.has_direction || e.has_yaw_rate);
+  f.gray = cv::Mat(384, 512, CV_8UC1, cv::Scalar(255));
+  f.index = 1;
+  EXPECT_STREQ(est->estimate(f).method, "saturated");
+  f.gray = cv::Mat(100, 100, CV_8UC1, cv::Scalar(100));
+  f.index = 2;
+  e = est->estimate(f);
+  EXPECT_STREQ(e.method, "bad-frame");
+  EXPECT_EQ(e.quality, 0.0);
+}
+
+TEST(GvsEstimator, FreshNoiseWithoutTextureIsNotAMotion) {
+  // Every frame new random noise: no texture, nothing moves. Whatever the
+  // method says, it must not claim a speed or direction with quality.
+  auto est = make_gvs(CameraGeometry{});
+  cv::Mat noise(384, 512, CV_8UC1);
+  for (int i = 0; i < 5; ++i) {
+    cv::RNG rng(static_cast<std::uint64_t>(500 + i));
+    rng.fill(noise, cv::RNG::NORMAL, 100.0, 3.0);
+    FrameView f;
+    f.gray = noise;
+    f.index = i;
+    f.t_ns = static_cast<std::int64_t>(i * kFramePeriodUs * 1000.0);
+    const VelocityEstimate e = est->estimate(f);
+    EXPECT_EQ(e.quality, 0.0) << "frame " << i << " " << e.method;
+    EXPECT_FALSE(e.has_direction) << "frame " << i;
+  }
+}
+
+}  // namespace
+}  // namespace gvs::dsp
