@@ -10,8 +10,8 @@ std::uint8_t crc8_autosar(const std::uint8_t* bytes, std::size_t count,
   for (std::size_t i = 0; i < count; ++i) {
     crc = static_cast<std::uint8_t>(crc ^ bytes[i]);
     for (int bit = 0; bit < 8; ++bit) {
-      crc = (crc & 0x80u) != 0 ? static_cast<std::uint8_t>((crc << 1) ^ 0x2Fu)
-                               : static_cast<std::uint8_t>(crc << 1);
+      const unsigned shifted = static_cast<unsigned>(crc) << 1U;
+      crc = static_cast<std::uint8_t>((crc & 0x80U) != 0 ? (shifted ^ 0x2FU) : shifted);
     }
   }
   return static_cast<std::uint8_t>(crc ^ 0xFFu);

@@ -121,14 +121,11 @@ int run(const CommandLine& cli) {
   }
   spdlog::set_level(spdlog::level::from_str(config.log_level));
 
-  // Block the stop/reload signals in every thread; the main thread takes
-  // them synchronously with sigtimedwait, so no handler runs on an RT thread.
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGHUP);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   std::unique_ptr<Pipeline> pipeline;
   int mlock_errno = 0;
@@ -147,6 +144,11 @@ int run(const CommandLine& cli) {
       hooks.max_ticks = static_cast<std::uint64_t>(config.run_for_s * 1000.0 / config.period_ms + 0.5);
     }
     pipeline = std::make_unique<Pipeline>(config, std::move(source), std::move(estimator), std::move(sink), hooks);
+    // From here on the stop/reload signals are blocked in every thread (the
+    // RT threads inherit the mask) and the main thread takes them with
+    // sigtimedwait, so no handler ever runs on an RT thread. Before this
+    // point a SIGTERM simply ends the process: there is nothing to clean up.
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     pipeline->start();
   } catch (const std::exception& e) {
     spdlog::critical("start-up: {}", e.what());

@@ -82,7 +82,7 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   // Axis: the streak-length peak lag is the sharper estimate once the streak is long.
   double u_row = axis.u_row;
   double u_col = axis.u_col;
-  if (has_speed && len.length_px >= 20.0) {
+  if (has_speed && len.length_px >= set_.axis_from_streak_end_px) {
     u_row = len.d_row_px / len.length_px;
     u_col = len.d_col_px / len.length_px;
   }

@@ -14,7 +14,7 @@ namespace gvs::dsp {
 /// Settings shared by all estimators. `method` picks the estimator by name
 /// (see estimator_names()).
 struct EstimatorConfig {
-  std::string method = "thesis";
+  std::string method = "gvs";
   CameraGeometry camera;
 };
 

@@ -47,6 +47,7 @@ struct GvsEstimatorSettings {
   double min_texture_snr = 0.3;      ///< band power above the noise floor over the noise: below, "no-texture"
   double good_texture_snr = 5.0;     ///< full quality from here (normal light: 20-70)
   double refine_min_anisotropy = 0.9; ///< long streaks: refine the axis on the spectral line
+  double axis_from_streak_end_px = 20.0; ///< use the streak-end lag as the axis from this length
   double long_streak_anisotropy = 0.96;///< no speed and above: "streak-*" (too long), else "blur-*"
   double refine_sigma = 0.05;        ///< rad/px, half-width of the line used
   double min_streak_px = 20.0;       ///< shorter streaks: length not measured (texture grain biases it)
