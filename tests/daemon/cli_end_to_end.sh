@@ -29,6 +29,15 @@ rows=$(($(wc -l < "$work/est.csv") - 1))
 head -1 "$work/est.csv" | grep -qx 'index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps,quality,method' \
   || fail "estimates header"
 
+# 2b. --config takes the estimator from a gvsd configuration; a bad one is named.
+printf '[estimator]\nmethod = "%s"\n' "$method" > "$work/gvsd.toml"
+"$gvs" replay "$work/run" --out "$work/est2.csv" --config "$work/gvsd.toml" | grep -q "with '$method'" \
+  || fail "replay --config did not take the method"
+cmp -s "$work/est.csv" "$work/est2.csv" || fail "replay --config gave other estimates than --method"
+printf '[estimator]\nmethd = "gvs"\n' > "$work/bad.toml"
+out=$("$gvs" replay "$work/run" --out "$work/x.csv" --config "$work/bad.toml" 2>&1) && fail "bad config accepted"
+grep -q "bad.toml:2: unknown key 'methd'" <<<"$out" || fail "bad config not named: $out"
+
 # 3. Eval prints the table; --plot draws a PNG; --json parses.
 "$gvs" eval "$work/run" "$work/est.csv" --plot "$work/plot.png" --json "$work/acc.json" | tee "$work/table.txt"
 grep -q '^0-5 ' "$work/table.txt" && grep -q '^140-250 ' "$work/table.txt" || fail "eval table lacks the bands"

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "gvs/daemon/config.hpp"
 #include "gvs/daemon/replay.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
@@ -27,7 +28,9 @@ void run_replay(const ReplayCliOptions& o) {
   const drivers::DatasetReader dataset(o.dataset);
   daemon::FrameProcessorConfig config;
   if (!o.config_file.empty()) {
-    throw std::invalid_argument(o.config_file + ": --config is read once gvsd's configuration exists; use --method");
+    // The estimator settings of a gvsd configuration; the camera geometry
+    // stays the dataset's own (camera.json describes the frames).
+    config.estimator.method = daemon::load_config_file(o.config_file).estimator_method;
   }
   if (!o.method.empty()) config.estimator.method = o.method;
 

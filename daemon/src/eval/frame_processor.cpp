@@ -7,12 +7,12 @@ namespace gvs::daemon {
 FrameProcessor::FrameProcessor(const FrameProcessorConfig& config)
     : config_(config), estimator_(dsp::make_estimator(config.estimator)) {}
 
-void FrameProcessor::reset() {
+void FrameProcessor::reset() noexcept {
   estimator_->reset();
   have_previous_ = false;
 }
 
-dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) {
+dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) noexcept {
   const dsp::CameraGeometry& cam = config_.estimator.camera;
   const std::int64_t mid_t_ns =
       frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "gvs/daemon/frame_processor.hpp"
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/dsp/geometry.hpp"
 
@@ -10,20 +11,17 @@ namespace gvs::daemon {
 
 namespace {
 
-/// A dsp estimator from the factory.
+/// A dsp estimator from the factory, behind the frame checks of
+/// FrameProcessor: the very code `gvs replay` runs.
 class DspEstimator final : public FrameEstimator {
  public:
-  DspEstimator(std::unique_ptr<dsp::VelocityEstimator> estimator, std::string name)
-      : estimator_(std::move(estimator)), name_(std::move(name)) {}
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
-    return estimator_->estimate(slot.view);
-  }
-  void reset() noexcept override { estimator_->reset(); }
-  [[nodiscard]] std::string name() const override { return name_; }
+  explicit DspEstimator(const FrameProcessorConfig& config) : processor_(config) {}
+  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override { return processor_.process(slot.view); }
+  void reset() noexcept override { processor_.reset(); }
+  [[nodiscard]] std::string name() const override { return processor_.config().estimator.method; }
 
  private:
-  std::unique_ptr<dsp::VelocityEstimator> estimator_;
-  std::string name_;
+  FrameProcessor processor_;
 };
 
 /// Reports the truth the source carries (simulator; replay with truth.csv):
@@ -57,11 +55,11 @@ class TruthEstimator final : public FrameEstimator {
 std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
                                                      const dsp::CameraGeometry& geometry) {
   if (method == "truth") return std::make_unique<TruthEstimator>();
-  dsp::EstimatorConfig config;
-  config.method = method;
-  config.camera = geometry;
+  FrameProcessorConfig config;
+  config.estimator.method = method;
+  config.estimator.camera = geometry;
   try {
-    return std::make_unique<DspEstimator>(dsp::make_estimator(config), method);
+    return std::make_unique<DspEstimator>(config);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(std::string("[estimator] method: ") + e.what() +
                              " (or \"truth\": the source's ground truth, for pipeline tests)");

@@ -32,8 +32,8 @@ class FrameProcessor {
   explicit FrameProcessor(const FrameProcessorConfig& config);
 
   /// Never throws; no allocation after the first frame of the configured size.
-  dsp::VelocityEstimate process(const dsp::FrameView& frame);
-  void reset();
+  dsp::VelocityEstimate process(const dsp::FrameView& frame) noexcept;
+  void reset() noexcept;
 
   [[nodiscard]] const FrameRejectCounters& rejects() const { return rejects_; }
   [[nodiscard]] const FrameProcessorConfig& config() const { return config_; }
