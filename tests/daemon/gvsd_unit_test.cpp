@@ -10,6 +10,7 @@
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
 #include "gvs/daemon/health.hpp"
+#include "gvs/daemon/pipeline.hpp"
 #include "gvs/daemon/seqlock.hpp"
 #include "gvs/daemon/spsc_ring.hpp"
 
@@ -316,6 +317,24 @@ TEST(LeverArm, WithoutYawRateTheEstimateStaysAtTheSensor) {
   EXPECT_EQ(e.vy_mps, 1.0);
 }
 
+TEST(Watchdog, FedOnlyWhileEveryThreadProgresses) {
+  Progress p;
+  WatchdogGate gate(p);
+  EXPECT_FALSE(gate.should_feed(p)) << "nothing moved";
+  for (auto& b : p.beats) ++b;
+  EXPECT_TRUE(gate.should_feed(p));
+  for (std::size_t hung = 0; hung < kThreadCount; ++hung) {
+    // One thread hangs: the others keep beating, the watchdog starves.
+    for (int k = 0; k < 5; ++k) {
+      for (std::size_t i = 0; i < kThreadCount; ++i) p.beats[i] += i == hung ? 0 : 3;
+      EXPECT_FALSE(gate.should_feed(p)) << role_name(static_cast<ThreadRole>(hung)) << " hung";
+    }
+    // It comes back: fed again.
+    p.beats[hung] += 1;
+    EXPECT_TRUE(gate.should_feed(p)) << role_name(static_cast<ThreadRole>(hung)) << " recovered";
+  }
+}
+
 TEST(Health, LineCarriesTheCounters) {
   HealthSnapshot prev;
   HealthSnapshot now;
@@ -324,6 +343,7 @@ TEST(Health, LineCarriesTheCounters) {
   now.late_wakeups = 4;
   now.send_errors = 1;
   now.estimator_failures = 7;
+  now.frames_rejected = 5;
   now.frames_dropped = 3;
   PublishedEstimate latest;
   const std::string line = format_health_line(now, prev, latest, 0, 5.0);
@@ -333,6 +353,7 @@ TEST(Health, LineCarriesTheCounters) {
   EXPECT_NE(line.find("late wake-ups 4"), std::string::npos) << line;
   EXPECT_NE(line.find("send errors 1"), std::string::npos) << line;
   EXPECT_NE(line.find("estimator failures 7"), std::string::npos) << line;
+  EXPECT_NE(line.find("rejected 5 (+5)"), std::string::npos) << line;
   EXPECT_NE(line.find("no estimate yet"), std::string::npos) << line;
 }
 

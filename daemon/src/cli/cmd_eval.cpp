@@ -29,14 +29,17 @@ struct EvalOptions {
   std::string title;
 };
 
-/// Where gvs_plot.py is: $GVS_PLOT_SCRIPT, the source tree, or the installed copy.
+/// Where gvs_plot.py is: $GVS_PLOT_SCRIPT, the installed copy beside this
+/// executable (<prefix>/bin/gvs -> <prefix>/share/gvs/), or the source tree.
 fs::path plot_script() {
   if (const char* env = std::getenv("GVS_PLOT_SCRIPT")) return env;
-  for (const fs::path& p : {fs::path(GVS_PLOT_SCRIPT_SOURCE), fs::path(GVS_PLOT_SCRIPT_INSTALLED)}) {
+  std::error_code ec;
+  const fs::path installed = fs::read_symlink("/proc/self/exe", ec).parent_path().parent_path() / GVS_PLOT_SCRIPT_INSTALLED;
+  for (const fs::path& p : {installed, fs::path(GVS_PLOT_SCRIPT_SOURCE)}) {
     if (fs::exists(p)) return p;
   }
   throw std::runtime_error(std::string("gvs_plot.py not found at ") + GVS_PLOT_SCRIPT_SOURCE + " or " +
-                           GVS_PLOT_SCRIPT_INSTALLED + "; set GVS_PLOT_SCRIPT");
+                           installed.string() + "; set GVS_PLOT_SCRIPT");
 }
 
 std::string shell_quote(const std::string& s) {

@@ -12,6 +12,13 @@ void FrameProcessor::reset() noexcept {
   have_previous_ = false;
 }
 
+dsp::VelocityEstimate FrameProcessor::reject(const dsp::FrameView& frame, const char* reason) noexcept {
+  ++rejects_.unreadable;
+  const std::int64_t mid_t_ns =
+      frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
+  return dsp::no_estimate(frame.index, mid_t_ns, reason);
+}
+
 dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) noexcept {
   const dsp::CameraGeometry& cam = config_.estimator.camera;
   const std::int64_t mid_t_ns =

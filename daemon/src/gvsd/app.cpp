@@ -32,6 +32,7 @@ struct CommandLine {
   std::string source_uri;
   std::string can_uri;
   std::optional<double> run_for_s;
+  bool check_only = false;
 };
 
 DaemonConfig load(const CommandLine& cli) {
@@ -119,6 +120,13 @@ int run(const CommandLine& cli) {
     spdlog::critical("configuration: {}", e.what());
     return 1;
   }
+  if (cli.check_only) {
+    // stdout, not the log: `gvsd --check-config` is run by hand or by a
+    // package script before a reload or restart.
+    fmt::print("{}: configuration OK (source {}, CAN {}, estimator {}, exposure {})\n", config.origin,
+               config.source_uri, config.can_uri, config.estimator_method, config.exposure_mode);
+    return 0;
+  }
   spdlog::set_level(spdlog::level::from_str(config.log_level));
 
   sigset_t signals;
@@ -165,7 +173,7 @@ int run(const CommandLine& cli) {
   const std::int64_t started_ns = mono_now_ns();
   std::int64_t next_health_ns = started_ns + static_cast<std::int64_t>(config.health_interval_s * 1e9);
   std::int64_t next_watchdog_ns = started_ns;
-  Progress last_progress = pipeline->progress();
+  WatchdogGate watchdog_gate(pipeline->progress());
   HealthSnapshot last_health = snapshot(pipeline->counters());
   std::int64_t last_health_ns = started_ns;
   std::string stop_reason;
@@ -185,13 +193,7 @@ int run(const CommandLine& cli) {
 
     log_sink_events(*pipeline);
     if (watchdog && now >= next_watchdog_ns) {
-      const Progress p = pipeline->progress();
-      bool all = true;
-      for (std::size_t i = 0; i < kThreadCount; ++i) all = all && p.beats[i] != last_progress.beats[i];
-      if (all) {
-        sd_notify(0, "WATCHDOG=1");
-        last_progress = p;
-      }
+      if (watchdog_gate.should_feed(pipeline->progress())) sd_notify(0, "WATCHDOG=1");
       next_watchdog_ns = now + watchdog_every_ns;
     }
     if (now >= next_health_ns) {
@@ -233,6 +235,9 @@ int gvsd_main(int argc, char** argv) {
   app.add_option("--can", cli.can_uri, "CAN output: socketcan:IFACE | candump:PATH ('-' = stdout) (default candump:-)");
   app.add_option("--run-for", cli.run_for_s, "stop after this many seconds (exactly that many CAN periods)")
       ->check(CLI::PositiveNumber);
+  app.add_flag("--check-config", cli.check_only,
+               "read and check the configuration (every key, type and range), print it and exit: 0 = OK, "
+               "1 = refused with the key named");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

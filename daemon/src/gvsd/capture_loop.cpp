@@ -27,6 +27,7 @@ void Pipeline::capture_loop() noexcept {
     const bool overrun = slot == nullptr;
     if (overrun) slot = &spare_;
 
+    slot->defect = nullptr;  // a source sets it only for a frame it could not deliver
     const SourceStatus status = source_->next(*slot, stop_);
     if (status == SourceStatus::stopped) break;
     if (status == SourceStatus::end) {

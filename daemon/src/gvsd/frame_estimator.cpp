@@ -16,8 +16,12 @@ namespace {
 class DspEstimator final : public FrameEstimator {
  public:
   explicit DspEstimator(const FrameProcessorConfig& config) : processor_(config) {}
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override { return processor_.process(slot.view); }
+  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+    if (slot.defect != nullptr) return processor_.reject(slot.view, slot.defect);
+    return processor_.process(slot.view);
+  }
   void reset() noexcept override { processor_.reset(); }
+  [[nodiscard]] std::uint64_t rejected_frames() const noexcept override { return processor_.rejects().total(); }
   [[nodiscard]] std::string name() const override { return processor_.config().estimator.method; }
 
  private:

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include <spdlog/spdlog.h>
+
 #include "gvs/daemon/clock.hpp"
 #include "sim_source.hpp"
 
@@ -23,17 +25,32 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_l
           << "; raise the limit or replay a shorter dataset";
       throw std::runtime_error(msg.str());
     }
+    // A frame that cannot be decoded or has the wrong size is kept as a
+    // defect: it is delivered in its turn with no pixels, gets no estimate
+    // (named "unreadable" / "wrong-size") and is counted, like a camera
+    // frame that arrives broken; the frames around it play normally.
     frames_.reserve(records_.size());
+    defects_.assign(records_.size(), nullptr);
+    std::size_t good = 0;
     for (std::size_t i = 0; i < records_.size(); ++i) {
-      cv::Mat gray = reader.load_gray(i);
-      if (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px) {
-        std::ostringstream msg;
-        msg << folder.string() << ": " << records_[i].file << " is " << gray.cols << 'x' << gray.rows
-            << " px but camera.json says " << geometry_.width_px << 'x' << geometry_.height_px;
-        throw std::runtime_error(msg.str());
+      cv::Mat gray;
+      try {
+        gray = reader.load_gray(i);
+      } catch (const drivers::DatasetError& e) {
+        spdlog::warn("replay: frame {} gets no estimate: {}", records_[i].index, e.what());
+        defects_[i] = "unreadable";
       }
+      if (defects_[i] == nullptr && (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px)) {
+        spdlog::warn("replay: frame {} gets no estimate: {} is {}x{} px but camera.json says {}x{}",
+                     records_[i].index, records_[i].file, gray.cols, gray.rows, geometry_.width_px,
+                     geometry_.height_px);
+        defects_[i] = "wrong-size";
+        gray.release();
+      }
+      if (defects_[i] == nullptr) ++good;
       frames_.push_back(std::move(gray));
     }
+    if (good == 0) throw std::runtime_error(folder.string() + ": no frame of the dataset could be read");
     std::unordered_map<std::int64_t, const drivers::TruthRecord*> by_index;
     for (const auto& t : reader.truth()) by_index[t.index] = &t;
     truth_.resize(records_.size());
@@ -73,7 +90,8 @@ SourceStatus ReplaySource::next(FrameSlot& slot, const std::atomic<bool>& stop) 
   const std::int64_t exposure_start_ns = base_ns_ + (rec.t_ns - records_.front().t_ns);
   const auto exposure_ns = static_cast<std::int64_t>(rec.exposure.exposure_us * 1000.0);
   if (!sleep_until_or_stop(exposure_start_ns + exposure_ns, stop)) return SourceStatus::stopped;
-  frames_[i].copyTo(slot.view.gray);  // same size and type: a plain copy, no allocation
+  slot.defect = defects_[i];
+  if (slot.defect == nullptr) frames_[i].copyTo(slot.view.gray);  // same size and type: no allocation
   slot.view.index = rec.index;
   slot.view.t_ns = exposure_start_ns;
   slot.view.exposure = rec.exposure;

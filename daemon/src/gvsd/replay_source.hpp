@@ -34,6 +34,7 @@ class ReplaySource final : public FrameSource {
   dsp::CameraGeometry geometry_;
   std::vector<drivers::FrameRecord> records_;
   std::vector<cv::Mat> frames_;
+  std::vector<const char*> defects_;  ///< per frame: nullptr, "unreadable" or "wrong-size"
   std::vector<FrameTruth> truth_;
   double fps_ = 0.0;
   std::size_t next_ = 0;

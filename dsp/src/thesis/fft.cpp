@@ -81,7 +81,7 @@ FftAxis FftOrientation::measure(const cv::Mat& gray) {
   cv::dft(padded_, spectrum_, cv::DFT_COMPLEX_OUTPUT);
   cv::split(spectrum_, planes_);
   cv::magnitude(planes_[0], planes_[1], magnitude_);
-  magnitude_ += 1.0F;
+  magnitude_ += cv::Scalar::all(1.0);
   cv::log(magnitude_, magnitude_);
   fft_shift(magnitude_);
 

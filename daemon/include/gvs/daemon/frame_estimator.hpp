@@ -3,6 +3,7 @@
 // without an estimator), plus the lever arm to the car's reference point.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -22,6 +23,8 @@ class FrameEstimator {
   /// Real-time path: no throw, no allocation after the first frame.
   virtual dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept = 0;
   virtual void reset() noexcept = 0;
+  /// Bad input frames so far (FrameRejectCounters::total()).
+  [[nodiscard]] virtual std::uint64_t rejected_frames() const noexcept { return 0; }
   [[nodiscard]] virtual std::string name() const = 0;
 };
 

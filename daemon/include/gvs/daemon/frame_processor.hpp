@@ -18,6 +18,10 @@ struct FrameRejectCounters {
   std::uint64_t bad_exposure = 0;
   std::uint64_t time_backwards = 0;
   std::uint64_t time_gap = 0;  ///< gap long enough to forget history (not a reject)
+  std::uint64_t unreadable = 0;  ///< the source had no pixels for the frame
+
+  /// Frames that got no estimate because of their input.
+  [[nodiscard]] std::uint64_t total() const { return wrong_size + bad_exposure + time_backwards + unreadable; }
 };
 
 struct FrameProcessorConfig {
@@ -34,6 +38,10 @@ class FrameProcessor {
   /// Never throws; no allocation after the first frame of the configured size.
   dsp::VelocityEstimate process(const dsp::FrameView& frame) noexcept;
   void reset() noexcept;
+  /// A frame the source could not deliver (`reason`: "unreadable", ...):
+  /// no estimate, counted; the estimator keeps its history, so the next
+  /// good frame is measured as usual.
+  dsp::VelocityEstimate reject(const dsp::FrameView& frame, const char* reason) noexcept;
 
   [[nodiscard]] const FrameRejectCounters& rejects() const { return rejects_; }
   [[nodiscard]] const FrameProcessorConfig& config() const { return config_; }

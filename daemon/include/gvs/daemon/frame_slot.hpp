@@ -25,6 +25,9 @@ struct FrameSlot {
   std::int64_t captured_ns = 0;   ///< monotonic time the capture thread received the frame
   std::uint64_t sequence = 0;     ///< capture order, 1, 2, ... (gaps: frames the ring had no room for)
   FrameTruth truth;
+  /// Set by the source when it could not deliver this frame's pixels
+  /// ("unreadable", "wrong-size"): the frame gets no estimate, named so.
+  const char* defect = nullptr;
 };
 
 }  // namespace gvs::daemon

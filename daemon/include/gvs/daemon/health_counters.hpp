@@ -30,6 +30,7 @@ struct HealthCounters {
   std::atomic<std::uint64_t> frames_processed{0};
   std::atomic<std::uint64_t> frames_skipped{0};    ///< older frames passed over for the newest
   std::atomic<std::uint64_t> estimator_failures{0};///< frames without a speed estimate
+  std::atomic<std::uint64_t> frames_rejected{0};   ///< bad input frames (unreadable, wrong size or exposure, time backwards)
   std::atomic<std::int64_t> processing_max_ns{0};
   std::atomic<std::uint64_t> processing_heartbeat{0};
   // sender thread
@@ -48,7 +49,7 @@ struct HealthCounters {
 struct HealthSnapshot {
   std::uint64_t frames_captured = 0, ring_overruns = 0, frames_dropped = 0, source_errors = 0,
                 capture_late = 0, exposure_updates = 0;
-  std::uint64_t frames_processed = 0, frames_skipped = 0, estimator_failures = 0;
+  std::uint64_t frames_processed = 0, frames_skipped = 0, estimator_failures = 0, frames_rejected = 0;
   std::int64_t processing_max_ns = 0;
   std::uint64_t sender_ticks = 0, late_wakeups = 0, missed_ticks = 0, send_errors = 0,
                 frames_sent = 0, invalid_sent = 0;
@@ -68,6 +69,7 @@ inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
   s.frames_processed = c.frames_processed.load(r);
   s.frames_skipped = c.frames_skipped.load(r);
   s.estimator_failures = c.estimator_failures.load(r);
+  s.frames_rejected = c.frames_rejected.load(r);
   s.processing_max_ns = c.processing_max_ns.load(r);
   s.sender_ticks = c.sender_ticks.load(r);
   s.late_wakeups = c.late_wakeups.load(r);

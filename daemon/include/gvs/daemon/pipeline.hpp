@@ -58,6 +58,25 @@ struct Progress {
   std::array<std::uint64_t, kThreadCount> beats{};
 };
 
+/// The systemd watchdog rule: feed (WATCHDOG=1) only when every thread's
+/// heartbeat moved since the last feed. A thread that hangs keeps its count,
+/// the feeding stops, and systemd kills and restarts gvsd after WatchdogSec.
+class WatchdogGate {
+ public:
+  explicit WatchdogGate(const Progress& start) : last_(start) {}
+  /// True when gvsd may feed the watchdog now (then `now` becomes the reference).
+  bool should_feed(const Progress& now) {
+    for (std::size_t i = 0; i < kThreadCount; ++i) {
+      if (now.beats[i] == last_.beats[i]) return false;
+    }
+    last_ = now;
+    return true;
+  }
+
+ private:
+  Progress last_;
+};
+
 class Pipeline {
  public:
   Pipeline(const DaemonConfig& config, std::unique_ptr<FrameSource> source,

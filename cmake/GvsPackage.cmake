@@ -1,0 +1,51 @@
+# Installation layout and the Debian package (cpack -G DEB).
+#   cmake --preset release && cmake --build --preset release
+#   (cd build/release && cpack -G DEB)    -> build/release/gvs_<version>_<arch>.deb
+# Contents: gvsd and gvs in /usr/bin, the unit, its user (sysusers.d) and
+# udev rules, the car configuration in /etc/gvsd/, the DBC and the plot
+# script in /usr/share/gvs/, the docs in /usr/share/doc/gvs/. Dependencies
+# come from dpkg-shlibdeps (Debian's own library packages).
+
+include(GNUInstallDirs)
+
+install(TARGETS gvsd gvs RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT gvs)
+install(FILES ${PROJECT_SOURCE_DIR}/daemon/scripts/gvs_plot.py DESTINATION ${CMAKE_INSTALL_DATADIR}/gvs COMPONENT gvs)
+install(FILES ${PROJECT_SOURCE_DIR}/can/gvs.dbc DESTINATION ${CMAKE_INSTALL_DATADIR}/gvs COMPONENT gvs)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/gvsd.service DESTINATION lib/systemd/system COMPONENT gvs)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/gvsd.sysusers DESTINATION lib/sysusers.d RENAME gvsd.conf COMPONENT gvs)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/60-gvsd.rules DESTINATION lib/udev/rules.d COMPONENT gvs)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/gvs-vcan.service DESTINATION ${CMAKE_INSTALL_DATADIR}/gvs/bench COMPONENT gvs)
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/systemd/gvs-vcan.sh DESTINATION ${CMAKE_INSTALL_DATADIR}/gvs/bench COMPONENT gvs)
+
+# The car's configuration: the documented example with the car's source and
+# bus. Until the libcamera source exists (hardware issue) gvsd refuses
+# `libcamera` at start with a message, rather than putting a simulated
+# velocity on a real car's bus.
+file(READ ${PROJECT_SOURCE_DIR}/systemd/gvsd.toml gvs_car_toml)
+string(REPLACE "uri = \"sim:sine\"" "uri = \"libcamera\"" gvs_car_toml "${gvs_car_toml}")
+string(REPLACE "uri = \"candump:-\"" "uri = \"socketcan:can0\"" gvs_car_toml "${gvs_car_toml}")
+file(WRITE ${PROJECT_BINARY_DIR}/package/gvsd.toml "${gvs_car_toml}")
+install(FILES ${PROJECT_BINARY_DIR}/package/gvsd.toml DESTINATION /etc/gvsd COMPONENT gvs)
+
+file(GLOB gvs_docs ${PROJECT_SOURCE_DIR}/docs/*.md)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${gvs_docs} DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT gvs)
+
+set(CPACK_PACKAGE_NAME gvs)
+set(CPACK_PACKAGE_VENDOR "gvs")
+set(CPACK_PACKAGE_CONTACT "gvs maintainers <gvs@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "ground velocity sensor daemon for Formula Student cars (camera to CAN)")
+set(CPACK_PACKAGE_DESCRIPTION "gvsd turns frames of a downward-looking camera into the car's velocity over the ground and sends it on CAN every 20 ms; gvs simulates, replays, evaluates and monitors.")
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_GENERATOR DEB)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser | systemd")
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-matplotlib, can-utils")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
+  ${PROJECT_SOURCE_DIR}/systemd/debian/postinst
+  ${PROJECT_SOURCE_DIR}/systemd/debian/prerm
+  ${PROJECT_SOURCE_DIR}/systemd/debian/postrm
+  ${PROJECT_SOURCE_DIR}/systemd/debian/conffiles)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+include(CPack)

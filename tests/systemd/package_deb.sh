@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The Debian package (cmake/GvsPackage.cmake): builds it with cpack from the
+# release build tree, checks its contents, dependencies, maintainer scripts
+# and conffile, unpacks it into a scratch root and checks there that the unit
+# verifies (`systemd-analyze verify --root`), that the packaged gvsd reads the
+# packaged configuration, and that the packaged gvs finds its plot script.
+# Installing it into a clean Debian root with apt is scripts/check-package-chroot
+# (network and minutes: documented in docs/deployment.md, not run here).
+set -euo pipefail
+build_dir=$1
+work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+for tool in cpack dpkg-deb dpkg-shlibdeps systemd-analyze; do
+  command -v "$tool" >/dev/null || fail "$tool not installed (scripts/install-deps installs it)"
+done
+
+(cd "$build_dir" && cpack -G DEB -B "$work/out" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack -G DEB"; }
+deb=$(ls "$work"/out/gvs_*.deb 2>/dev/null | head -1)
+[[ -f "$deb" ]] || fail "no gvs_*.deb in $work/out"
+echo "package: $(basename "$deb"), $(du -k "$deb" | cut -f1) KiB"
+
+contents=$(dpkg-deb -c "$deb" | awk '{print $NF}')
+for f in ./usr/bin/gvsd ./usr/bin/gvs ./usr/lib/systemd/system/gvsd.service ./usr/lib/sysusers.d/gvsd.conf \
+         ./usr/lib/udev/rules.d/60-gvsd.rules ./etc/gvsd/gvsd.toml ./usr/share/gvs/gvs.dbc \
+         ./usr/share/gvs/gvs_plot.py ./usr/share/doc/gvs/deployment.md ./usr/share/doc/gvs/README.md; do
+  grep -qxF "$f" <<<"$contents" || fail "$f is not in the package"
+done
+depends=$(dpkg-deb -f "$deb" Depends)
+echo "Depends: $depends"
+for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libsystemd0 libspdlog1.10 adduser; do
+  grep -q "$lib" <<<"$depends" || fail "Depends lacks $lib"
+done
+dpkg-deb -e "$deb" "$work/control"
+grep -qx /etc/gvsd/gvsd.toml "$work/control/conffiles" || fail "/etc/gvsd/gvsd.toml is not a conffile"
+for s in postinst prerm postrm; do [[ -x "$work/control/$s" ]] || fail "maintainer script $s missing"; done
+grep -q systemd-sysusers "$work/control/postinst" || fail "postinst does not create the gvsd user"
+
+root=$work/root
+dpkg-deb -x "$deb" "$root"
+# The rest of a system the unit refers to: usrmerge as on Debian 12 (/bin
+# and /lib are /usr's), systemd's own units (sysinit.target, ...) and kill.
+ln -s usr/bin "$root/bin"; ln -s usr/lib "$root/lib"
+cp -n /usr/lib/systemd/system/*.target /usr/lib/systemd/system/*.slice /usr/lib/systemd/system/*.socket \
+   "$root/usr/lib/systemd/system/" 2>/dev/null || true
+cp "$(readlink -f /bin/kill)" "$root/usr/bin/kill"
+systemd-analyze verify --root="$root" --man=no gvsd.service >"$work/verify.log" 2>&1 ||
+  { cat "$work/verify.log"; fail "systemd-analyze verify on the installed unit"; }
+echo "systemd-analyze verify --root: passed"
+
+grep -q '^uri = "socketcan:can0"' "$root/etc/gvsd/gvsd.toml" || fail "packaged configuration does not send on can0"
+grep -q '^uri = "libcamera"' "$root/etc/gvsd/gvsd.toml" || fail "packaged configuration does not read the camera"
+"$root/usr/bin/gvsd" --check-config --config "$root/etc/gvsd/gvsd.toml" || fail "packaged gvsd refuses the packaged configuration"
+sed 's/^period_ms = 20 /period_ms = 0 /' "$root/etc/gvsd/gvsd.toml" > "$work/bad.toml"
+if out=$("$root/usr/bin/gvsd" --check-config --config "$work/bad.toml" 2>&1); then fail "--check-config accepted period_ms = 0"; fi
+grep -q period_ms <<<"$out" || fail "--check-config did not name period_ms: $out"
+# gvs eval --plot finds <prefix>/share/gvs/gvs_plot.py beside <prefix>/bin/gvs.
+"$root/usr/bin/gvs" sim --scenario stop --seconds 0.2 --out "$work/ds" >/dev/null
+"$root/usr/bin/gvs" replay "$work/ds" --out "$work/est.csv" >/dev/null
+if /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
+  (cd / && "$root/usr/bin/gvs" eval "$work/ds" "$work/est.csv" --plot "$work/p.png" >/dev/null) || fail "packaged gvs eval --plot"
+  [[ -s "$work/p.png" ]] || fail "no plot written"
+else
+  fail "python3-matplotlib missing under /usr/bin/python3 (scripts/install-deps installs it)"
+fi
+echo "OK"
