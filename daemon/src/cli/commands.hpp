@@ -11,5 +11,6 @@ void register_sim(CLI::App& app);
 void register_replay(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_monitor(CLI::App& app);
+void register_calibrate(CLI::App& app);
 
 }  // namespace gvs::cli

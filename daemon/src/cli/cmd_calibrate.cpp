@@ -1,0 +1,128 @@
+// gvs calibrate: fits the sensor to a car and writes the result into the
+// gvsd configuration ([camera] mm_per_px, mount_yaw_deg).
+//   gvs calibrate scale FRAME.png --inner-corners 9x6 --square-mm 10 [--config gvsd.toml]
+//   gvs calibrate yaw DATASET [--min-speed-kmh 5] [--method gvs] [--config gvsd.toml]
+// `scale`: a frame of a printed checkerboard lying flat under the sensor.
+// `yaw`: a recording (gvs record, or any gvs-dataset) of driving straight
+// ahead; its camera.json's mount_yaw_deg is what the estimates were made with.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "commands.hpp"
+#include "gvs/daemon/config_edit.hpp"
+#include "gvs/daemon/replay.hpp"
+#include "gvs/drivers/checkerboard.hpp"
+#include "gvs/drivers/dataset.hpp"
+#include "gvs/dsp/calibration.hpp"
+
+namespace gvs::cli {
+
+namespace {
+
+struct ScaleOptions {
+  std::string image;
+  std::string inner_corners = "9x6";
+  double square_mm = 10.0;
+  std::string config;
+};
+
+struct YawOptions {
+  std::string dataset;
+  double min_speed_kmh = 5.0;
+  std::string method = "gvs";
+  std::string config;
+};
+
+cv::Size parse_inner(const std::string& text) {
+  int cols = 0;
+  int rows = 0;
+  char x = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d", &cols, &x, &rows) != 3 || (x != 'x' && x != 'X') || cols < 2 || rows < 2) {
+    throw std::runtime_error("--inner-corners '" + text + "': give COLSxROWS of inner corners, e.g. 9x6 for a board of 10x7 squares");
+  }
+  return {cols, rows};
+}
+
+void run_scale(const ScaleOptions& o) {
+  const cv::Size inner = parse_inner(o.inner_corners);
+  const cv::Mat gray = cv::imread(o.image, cv::IMREAD_GRAYSCALE);
+  if (gray.empty()) throw std::runtime_error(o.image + ": cannot be read as an image");
+  const auto m = drivers::measure_checkerboard(gray, inner, o.square_mm);
+  if (!m) {
+    throw std::runtime_error(o.image + ": no checkerboard of " + o.inner_corners +
+                             " inner corners found; is the whole board in view, lit and in focus?");
+  }
+  const dsp::GridScale& g = m->scale;
+  std::printf("checkerboard %dx%d inner corners, squares %.3f mm\n", inner.width, inner.height, o.square_mm);
+  std::printf("spacing along rows %.3f px, along columns %.3f px (spread %.2f %%), board rotated %.2f deg\n",
+              g.spacing_along_rows_px, g.spacing_along_cols_px, g.spacing_spread_pct, g.grid_rotation_deg);
+  std::printf("mm_per_px = %.6f\n", g.mm_per_px);
+  if (std::abs(g.anisotropy_pct) > 1.0) {
+    std::printf("warning: rows and columns differ by %.1f %%: the camera does not look straight down, or the "
+                "board is not flat\n", g.anisotropy_pct);
+  }
+  if (!o.config.empty()) {
+    daemon::set_config_numbers_in_file(o.config, "camera", {{"mm_per_px", g.mm_per_px}});
+    std::printf("wrote [camera] mm_per_px to %s\n", o.config.c_str());
+  }
+}
+
+void run_yaw(const YawOptions& o) {
+  const drivers::DatasetReader dataset(o.dataset);
+  daemon::FrameProcessorConfig config;
+  config.estimator.method = o.method;
+  std::vector<double> directions;
+  const double min_mps = o.min_speed_kmh / 3.6;
+  daemon::replay_dataset(dataset, config, [&](const dsp::VelocityEstimate& e) {
+    if (e.has_direction && (!e.has_speed || e.speed_mps >= min_mps)) directions.push_back(e.direction_deg);
+  });
+  const double configured = dataset.camera().geometry.mount_yaw_deg;
+  const auto fit = dsp::fit_mount_yaw(directions, configured);
+  if (!fit) {
+    throw std::runtime_error(o.dataset + ": only " + std::to_string(directions.size()) +
+                             " frames with a direction; record at least 20 frames of straight driving");
+  }
+  std::printf("%zu frames of %zu with a direction; median direction %+.3f deg, robust spread %.3f deg\n",
+              fit->frames, dataset.frames().size(), fit->median_direction_deg, fit->spread_deg);
+  std::printf("recorded with mount_yaw_deg = %.3f; mount_yaw_deg = %.3f\n", configured, fit->mount_yaw_deg);
+  if (fit->spread_deg > 2.0) {
+    std::printf("warning: directions spread by %.1f deg: was the car really driving straight?\n", fit->spread_deg);
+  }
+  if (!o.config.empty()) {
+    daemon::set_config_numbers_in_file(o.config, "camera", {{"mount_yaw_deg", fit->mount_yaw_deg}});
+    std::printf("wrote [camera] mount_yaw_deg to %s\n", o.config.c_str());
+  }
+}
+
+}  // namespace
+
+void register_calibrate(CLI::App& app) {
+  CLI::App* cmd = app.add_subcommand("calibrate", "Fit the sensor to the car: ground scale and mounting yaw");
+  cmd->require_subcommand(1);
+
+  auto scale = std::make_shared<ScaleOptions>();
+  CLI::App* s = cmd->add_subcommand("scale", "mm_per_px from a frame of a printed checkerboard lying under the sensor");
+  s->add_option("image", scale->image, "Frame (PNG) showing the whole board")->required()->check(CLI::ExistingFile);
+  s->add_option("--inner-corners", scale->inner_corners, "Inner corners, COLSxROWS")->capture_default_str();
+  s->add_option("--square-mm", scale->square_mm, "Measured size of one square, mm")
+      ->check(CLI::Range(0.1, 1000.0))->capture_default_str();
+  s->add_option("--config", scale->config, "gvsd configuration to write [camera] mm_per_px into");
+  s->callback([scale] { run_scale(*scale); });
+
+  auto yaw = std::make_shared<YawOptions>();
+  CLI::App* y = cmd->add_subcommand("yaw", "mount_yaw_deg from a recording of driving straight ahead");
+  y->add_option("dataset", yaw->dataset, "gvs-dataset folder")->required()->check(CLI::ExistingDirectory);
+  y->add_option("--min-speed-kmh", yaw->min_speed_kmh, "Ignore slower frames")->capture_default_str();
+  y->add_option("--method", yaw->method, "Estimator")->capture_default_str();
+  y->add_option("--config", yaw->config, "gvsd configuration to write [camera] mount_yaw_deg into");
+  y->callback([yaw] { run_yaw(*yaw); });
+}
+
+}  // namespace gvs::cli
