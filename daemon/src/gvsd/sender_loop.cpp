@@ -76,7 +76,7 @@ void Pipeline::sender_loop() noexcept {
   const std::int64_t period_ns = config_.period_ms * kNsPerMs;
   const int status_every = config_.status_period_ms / config_.period_ms;
   std::uint64_t last_sequence = 0;
-  std::int64_t tick = 0;
+  std::int64_t tick_sent = 0;  // periods actually sent
   status_last_ = snapshot(counters_);
   std::int64_t next_ns = mono_now_ns() + period_ns;
 
@@ -95,6 +95,7 @@ void Pipeline::sender_loop() noexcept {
       break;
     }
     bump(counters_.sender_ticks);
+    const std::int64_t sent_ticks = tick_sent++;
     const std::int64_t late_ns = woke_ns - next_ns;
     raise_max(counters_.wakeup_late_max_ns, late_ns);
     if (late_ns > late_limit_ns_.load(std::memory_order_relaxed)) bump(counters_.late_wakeups);
@@ -114,7 +115,11 @@ void Pipeline::sender_loop() noexcept {
       }
     }
 
-    if (tick % status_every == 0) {
+    // Status and timing with every status_every-th velocity message sent
+    // (counted in messages, not grid slots: a period missed in a stall
+    // delays the next status by that period, and a bounded run sends
+    // exactly its share).
+    if (sent_ticks % status_every == 0) {
       send_frame(encoder_.status(make_status(latest, pair.velocity.valid)));
       can::TimingMsg timing;
       timing.exposure_us = static_cast<std::uint32_t>(latest.exposure_us);
@@ -128,14 +133,12 @@ void Pipeline::sender_loop() noexcept {
       break;
     }
 
-    ++tick;
     next_ns += period_ns;
     const std::int64_t now = mono_now_ns();
     if (next_ns <= now) {  // overslept whole periods: skip them, keep the phase
       const std::int64_t missed = (now - next_ns) / period_ns + 1;
       bump(counters_.missed_ticks, static_cast<std::uint64_t>(missed));
       next_ns += missed * period_ns;
-      tick += missed;
     }
   }
 }
