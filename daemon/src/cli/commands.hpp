@@ -12,5 +12,6 @@ void register_replay(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_monitor(CLI::App& app);
 void register_calibrate(CLI::App& app);
+void register_snapshot(CLI::App& app);
 
 }  // namespace gvs::cli

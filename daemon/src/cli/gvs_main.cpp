@@ -7,13 +7,14 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor, calibrate)"};
+  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor, calibrate, snapshot)"};
   app.require_subcommand(1);
   gvs::cli::register_sim(app);
   gvs::cli::register_replay(app);
   gvs::cli::register_eval(app);
   gvs::cli::register_monitor(app);
   gvs::cli::register_calibrate(app);
+  gvs::cli::register_snapshot(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,147 @@
+// gvs snapshot: one frame with what gvs makes of it, for checking focus,
+// light and mounting: the frame with the ground-motion arrow (the blur axis
+// with its sign; the car moves the opposite way over the ground), the
+// numbers of the estimate and of the exposure, and the frame's windowed
+// log-magnitude spectrum beside it (streaks show as a bright line through
+// its centre at right angles to them; a sharp frame has energy far from the
+// centre, a defocused one only near it).
+//   gvs snapshot --dataset DIR [--frame N] --out FILE.png [--method gvs]
+// The live camera (--source libcamera) comes with the libcamera source.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "commands.hpp"
+#include "gvs/daemon/frame_processor.hpp"
+#include "gvs/drivers/dataset.hpp"
+#include "gvs/dsp/frame_check.hpp"
+#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/spectrum.hpp"
+
+namespace gvs::cli {
+
+namespace {
+
+struct SnapshotOptions {
+  std::string dataset;
+  long frame = -1;  ///< position in frames.csv; -1 = the last
+  std::string out;
+  std::string method = "gvs";
+};
+
+/// log(1 + |F|) of the windowed frame, zero frequency in the centre, 0..255.
+cv::Mat spectrum_image(const cv::Mat& gray) {
+  dsp::WindowedSpectrum ws(gray.size());
+  cv::Mat spectrum;
+  ws.compute(gray, spectrum);
+  cv::Mat planes[2];
+  cv::split(spectrum, planes);
+  cv::Mat mag;
+  cv::magnitude(planes[0], planes[1], mag);
+  mag += cv::Scalar::all(1.0);
+  cv::log(mag, mag);
+  // Swap quadrants so that the zero frequency is in the centre.
+  const int cx = mag.cols / 2;
+  const int cy = mag.rows / 2;
+  cv::Mat shifted(mag.size(), mag.type());
+  mag(cv::Rect(0, 0, mag.cols - cx, mag.rows - cy)).copyTo(shifted(cv::Rect(cx, cy, mag.cols - cx, mag.rows - cy)));
+  mag(cv::Rect(mag.cols - cx, 0, cx, mag.rows - cy)).copyTo(shifted(cv::Rect(0, cy, cx, mag.rows - cy)));
+  mag(cv::Rect(0, mag.rows - cy, mag.cols - cx, cy)).copyTo(shifted(cv::Rect(cx, 0, mag.cols - cx, cy)));
+  mag(cv::Rect(mag.cols - cx, mag.rows - cy, cx, cy)).copyTo(shifted(cv::Rect(0, 0, cx, cy)));
+  cv::Mat out;
+  cv::normalize(shifted, out, 0, 255, cv::NORM_MINMAX, CV_8U);
+  return out;
+}
+
+void run_snapshot(const SnapshotOptions& o) {
+  const drivers::DatasetReader dataset(o.dataset);
+  const auto n = static_cast<long>(dataset.frames().size());
+  const long target = o.frame < 0 ? n - 1 : o.frame;
+  if (target >= n) {
+    throw std::runtime_error(o.dataset + ": --frame " + std::to_string(o.frame) + " but the dataset has " +
+                             std::to_string(n) + " frames");
+  }
+  daemon::FrameProcessorConfig config;
+  config.estimator.method = o.method;
+  config.estimator.camera = dataset.camera().geometry;
+  daemon::FrameProcessor processor(config);
+  // The frames before it too: pair methods and the sign need the history.
+  dsp::VelocityEstimate e;
+  cv::Mat gray;
+  for (long i = std::max(0L, target - 5); i <= target; ++i) {
+    const drivers::FrameRecord& rec = dataset.frames()[static_cast<std::size_t>(i)];
+    dsp::FrameView v;
+    gray = dataset.load_gray(static_cast<std::size_t>(i));
+    v.gray = gray;
+    v.index = rec.index;
+    v.t_ns = rec.t_ns;
+    v.exposure = rec.exposure;
+    e = processor.process(v);
+  }
+  const drivers::FrameRecord& rec = dataset.frames()[static_cast<std::size_t>(target)];
+  const dsp::FrameStats stats = dsp::measure_frame(gray);
+
+  cv::Mat left;
+  cv::cvtColor(gray, left, cv::COLOR_GRAY2BGR);
+  cv::Mat right;
+  cv::cvtColor(spectrum_image(gray), right, cv::COLOR_GRAY2BGR);
+  const cv::Point2d centre(gray.cols / 2.0, gray.rows / 2.0);
+  const double arm = 0.4 * std::min(gray.cols, gray.rows);
+  if (e.has_direction) {
+    // Ground motion in the image: a ground point moves by
+    // (d_row, d_col) = (v_x, v_y) of the velocity in camera axes
+    // (shared/spec/dataset-format.md); the car's own direction is opposite.
+    const dsp::Vec2 v_cam = dsp::vehicle_to_camera({std::cos(dsp::deg_to_rad(e.direction_deg)),
+                                                    std::sin(dsp::deg_to_rad(e.direction_deg))},
+                                                   dataset.camera().geometry.mount_yaw_deg);
+    const cv::Point2d d(v_cam.y * arm, v_cam.x * arm);  // (x = col, y = row)
+    cv::line(left, centre - d, centre + d, cv::Scalar(0, 200, 255), 1, cv::LINE_AA);  // blur axis
+    cv::arrowedLine(left, centre, centre + d, cv::Scalar(0, 255, 0), 2, cv::LINE_AA, 0, 0.15);
+  }
+  cv::Mat canvas(gray.rows + 64, gray.cols * 2, CV_8UC3, cv::Scalar(20, 20, 20));
+  left.copyTo(canvas(cv::Rect(0, 0, gray.cols, gray.rows)));
+  right.copyTo(canvas(cv::Rect(gray.cols, 0, gray.cols, gray.rows)));
+  const std::string line1 =
+      e.quality > 0.0
+          ? fmt::format("frame {}  {}  speed {}  direction {}  yaw {}  quality {:.2f}", rec.index, e.method,
+                        e.has_speed ? fmt::format("{:.2f} m/s", e.speed_mps) : std::string("-"),
+                        e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
+                        e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality)
+          : fmt::format("frame {}  no estimate: {}", rec.index, e.method);
+  const std::string line2 = fmt::format(
+      "exposure {:.1f} us, {} pulse(s)   mean grey {:.0f}  contrast {:.1f}  saturated {:.1f} %   "
+      "green: ground motion, orange: blur axis   right: spectrum",
+      rec.exposure.exposure_us, rec.exposure.pulse_count, stats.mean_grey, stats.contrast_grey,
+      100.0 * stats.saturated_fraction);
+  cv::putText(canvas, line1, cv::Point(8, gray.rows + 24), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255),
+              1, cv::LINE_AA);
+  cv::putText(canvas, line2, cv::Point(8, gray.rows + 50), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+              cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
+  if (!cv::imwrite(o.out, canvas)) throw std::runtime_error(o.out + ": cannot be written");
+  std::printf("%s\n%s\nwrote %s\n", line1.c_str(), line2.c_str(), o.out.c_str());
+}
+
+}  // namespace
+
+void register_snapshot(CLI::App& app) {
+  auto opts = std::make_shared<SnapshotOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "snapshot", "One frame with its estimate drawn on it and its spectrum beside it (focus, light, mounting)");
+  cmd->add_option("--dataset", opts->dataset, "gvs-dataset folder (a recording, or gvs sim's output)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--frame", opts->frame, "Position in frames.csv (default: the last)");
+  cmd->add_option("--out", opts->out, "PNG to write")->required();
+  cmd->add_option("--method", opts->method, "Estimator")->capture_default_str();
+  cmd->callback([opts] { run_snapshot(*opts); });
+}
+
+}  // namespace gvs::cli
