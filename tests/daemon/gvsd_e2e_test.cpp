@@ -212,6 +212,45 @@ TEST(Gvsd, SigtermStopsCleanlyWithin100Milliseconds) {
   std::printf("[ figures  ] SIGTERM to exit: %.1f ms\n", took_ms);
 }
 
+TEST(Gvsd, ReplayWithBrokenFramesPlaysOnAndCountsThem) {
+  // A 1 s recording with one truncated and one missing frame file: gvsd
+  // names both at start-up, plays the rest at its pace, counts 2 rejected.
+  const fs::path dir = temp_dir() / "broken_ds";
+  fs::remove_all(dir);
+  {
+    drivers::SimulatorConfig sc;
+    sc.scenario = "sine";
+    sc.seconds = 1.0;
+    sc.camera.width_px = 128;
+    sc.camera.height_px = 96;
+    drivers::Simulator sim(sc);
+    drivers::CameraInfo cam;
+    cam.geometry = sc.camera;
+    drivers::DatasetWriter writer(dir, cam, true);
+    drivers::SimFrame f;
+    while (sim.next(f)) {
+      writer.write_frame(f.gray, f.record);
+      writer.write_truth(f.truth);
+    }
+  }
+  const drivers::DatasetReader reader(dir);
+  ASSERT_GT(reader.frames().size(), 30u);
+  fs::resize_file(dir / reader.frames()[10].file, 40);
+  fs::remove(dir / reader.frames()[20].file);
+  const fs::path log = temp_dir() / "broken.log";
+  const Child c = spawn({"--source", "replay:" + dir.string(), "--can", "candump:" + log.string()}, "broken");
+  EXPECT_EQ(wait_exit(c), 0) << slurp(c.err);
+  const std::string err = slurp(c.err);
+  EXPECT_NE(err.find("frame " + std::to_string(reader.frames()[10].index) + " gets no estimate"), std::string::npos)
+      << err;
+  EXPECT_NE(err.find("frame " + std::to_string(reader.frames()[20].index) + " gets no estimate"), std::string::npos)
+      << err;
+  EXPECT_NE(err.find("stopped (end of the source)"), std::string::npos) << err;
+  EXPECT_NE(err.find("rejected 2"), std::string::npos) << err;
+  const auto msgs = read_candump_log(log.string());
+  EXPECT_GT(msgs.velocity.size(), 40u) << "played on to the end";
+}
+
 TEST(Gvsd, SigintStopsToo) {
   const Child c = spawn({"--source", "sim:const", "--can", "candump:" + (temp_dir() / "sigint.log").string()}, "sigint");
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
