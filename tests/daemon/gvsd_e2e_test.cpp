@@ -169,12 +169,11 @@ TEST(GvsdMustShow, SimSine10sWithTruth) { must_show_run("truth"); }
 /// A 10 s replay dataset (small frames), so stopping is not held up by the
 /// simulator's render of a frame, which cannot be interrupted (50-90 ms on
 /// a loaded 2-core machine): the car's camera source has no such render.
-fs::path replay_dataset() {
-  const fs::path dir = temp_dir() / "replay_ds";
-  if (fs::exists(dir / "truth.csv")) return dir;
+/// `seconds` of sim:sine at 128x96 px written as a dataset with truth.
+void write_sine_dataset(const fs::path& dir, double seconds) {
   drivers::SimulatorConfig sc;
   sc.scenario = "sine";
-  sc.seconds = 10.0;
+  sc.seconds = seconds;
   sc.camera.width_px = 128;
   sc.camera.height_px = 96;
   drivers::Simulator sim(sc);
@@ -186,6 +185,11 @@ fs::path replay_dataset() {
     writer.write_frame(f.gray, f.record);
     writer.write_truth(f.truth);
   }
+}
+
+fs::path replay_dataset() {
+  const fs::path dir = temp_dir() / "replay_ds";
+  if (!fs::exists(dir / "truth.csv")) write_sine_dataset(dir, 10.0);
   return dir;
 }
 
@@ -217,22 +221,7 @@ TEST(Gvsd, ReplayWithBrokenFramesPlaysOnAndCountsThem) {
   // names both at start-up, plays the rest at its pace, counts 2 rejected.
   const fs::path dir = temp_dir() / "broken_ds";
   fs::remove_all(dir);
-  {
-    drivers::SimulatorConfig sc;
-    sc.scenario = "sine";
-    sc.seconds = 1.0;
-    sc.camera.width_px = 128;
-    sc.camera.height_px = 96;
-    drivers::Simulator sim(sc);
-    drivers::CameraInfo cam;
-    cam.geometry = sc.camera;
-    drivers::DatasetWriter writer(dir, cam, true);
-    drivers::SimFrame f;
-    while (sim.next(f)) {
-      writer.write_frame(f.gray, f.record);
-      writer.write_truth(f.truth);
-    }
-  }
+  write_sine_dataset(dir, 1.0);
   const drivers::DatasetReader reader(dir);
   ASSERT_GT(reader.frames().size(), 30u);
   fs::resize_file(dir / reader.frames()[10].file, 40);

@@ -25,6 +25,7 @@
 #include "gvs/dsp/frame_check.hpp"
 #include "gvs/dsp/geometry.hpp"
 #include "gvs/dsp/spectrum.hpp"
+#include "gvs/dsp/thesis_fft.hpp"
 
 namespace gvs::cli {
 
@@ -48,14 +49,10 @@ cv::Mat spectrum_image(const cv::Mat& gray) {
   cv::magnitude(planes[0], planes[1], mag);
   mag += cv::Scalar::all(1.0);
   cv::log(mag, mag);
-  // Swap quadrants so that the zero frequency is in the centre.
-  const int cx = mag.cols / 2;
-  const int cy = mag.rows / 2;
-  cv::Mat shifted(mag.size(), mag.type());
-  mag(cv::Rect(0, 0, mag.cols - cx, mag.rows - cy)).copyTo(shifted(cv::Rect(cx, cy, mag.cols - cx, mag.rows - cy)));
-  mag(cv::Rect(mag.cols - cx, 0, cx, mag.rows - cy)).copyTo(shifted(cv::Rect(0, cy, cx, mag.rows - cy)));
-  mag(cv::Rect(0, mag.rows - cy, mag.cols - cx, cy)).copyTo(shifted(cv::Rect(cx, 0, mag.cols - cx, cy)));
-  mag(cv::Rect(mag.cols - cx, mag.rows - cy, cx, cy)).copyTo(shifted(cv::Rect(0, 0, cx, cy)));
+  // Zero frequency to the centre (the thesis FFT's quadrant swap; it takes
+  // even sizes, so an odd last row or column is left out of the picture).
+  cv::Mat shifted = mag(cv::Rect(0, 0, mag.cols & ~1, mag.rows & ~1)).clone();
+  dsp::thesis::fft_shift(shifted);
   cv::Mat out;
   cv::normalize(shifted, out, 0, 255, cv::NORM_MINMAX, CV_8U);
   return out;
@@ -91,8 +88,9 @@ void run_snapshot(const SnapshotOptions& o) {
 
   cv::Mat left;
   cv::cvtColor(gray, left, cv::COLOR_GRAY2BGR);
-  cv::Mat right;
-  cv::cvtColor(spectrum_image(gray), right, cv::COLOR_GRAY2BGR);
+  cv::Mat right(gray.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Mat spectrum = spectrum_image(gray);
+  cv::cvtColor(spectrum, right(cv::Rect(0, 0, spectrum.cols, spectrum.rows)), cv::COLOR_GRAY2BGR);
   const cv::Point2d centre(gray.cols / 2.0, gray.rows / 2.0);
   const double arm = 0.4 * std::min(gray.cols, gray.rows);
   if (e.has_direction) {
