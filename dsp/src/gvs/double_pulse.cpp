@@ -33,7 +33,7 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
       p[c] = cv::Vec2f(static_cast<float>(pw * (kr * kr + kc * kc)), 0.0f);
     }
   }
-  cv::dft(power_, surface_, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
+  inverse_dft_.run(power_, surface_);
   const double a0 = static_cast<double>(surface_.at<float>(0, 0));
   if (a0 <= 0.0) return out;
 

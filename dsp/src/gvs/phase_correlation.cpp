@@ -62,7 +62,7 @@ ImageShift PhaseCorrelator::correlate(const cv::Mat& spectrum_prev, const cv::Ma
       x[c] = cv::Vec2f(re / mag * w[c], im / mag * w[c]);
     }
   }
-  cv::dft(cross_, surface_, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
+  inverse_dft_.run(cross_, surface_);
 
   // Highest peak with exclude < |d| <= max, and the surface RMS.
   const double ex2 = exclude_radius_px * exclude_radius_px;

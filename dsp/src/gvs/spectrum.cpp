@@ -33,7 +33,7 @@ void WindowedSpectrum::compute(const cv::Mat& gray, cv::Mat& spectrum, const flo
       for (int c = 0; c < size_.width; ++c) f[c] = (static_cast<float>(g[c]) - m) * w[c];
     }
   }
-  cv::dft(work_, spectrum, cv::DFT_COMPLEX_OUTPUT);
+  dft_.run(work_, spectrum);
 }
 
 std::vector<double> angular_frequencies(int n) {

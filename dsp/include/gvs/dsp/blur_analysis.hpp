@@ -14,6 +14,8 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "gvs/dsp/dft.hpp"
+
 namespace gvs::dsp {
 
 /// Axis of motion in image axes (unit vector (u_row, u_col), sign arbitrary).
@@ -95,6 +97,7 @@ class BlurAnalyzer {
   cv::Mat band_;     ///< CV_32F band-pass weight per bin
   cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0)
   cv::Mat surface_;  ///< CV_32F autocorrelation
+  DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
 };
 

@@ -11,6 +11,8 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "gvs/dsp/dft.hpp"
+
 namespace gvs::dsp {
 
 /// Shift of the texture in `current` relative to `previous`, in pixels.
@@ -41,6 +43,7 @@ class PhaseCorrelator {
   cv::Mat weight_;  ///< CV_32F band limit per bin
   cv::Mat cross_;   ///< CV_32FC2 normalised cross-power spectrum
   cv::Mat surface_; ///< CV_32F
+  DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
 };
 
 }  // namespace gvs::dsp

@@ -6,6 +6,8 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "gvs/dsp/dft.hpp"
+
 namespace gvs::dsp {
 
 /// Spectrum F(k) of a mean-removed, Hann-windowed image:
@@ -30,6 +32,7 @@ class WindowedSpectrum {
   cv::Size size_;
   cv::Mat window_;  ///< CV_32F Hann window
   cv::Mat work_;    ///< CV_32F windowed image
+  DftPlan dft_{DftPlan::Direction::forward_real_to_complex};
   double window_sum_ = 0.0;
 };
 
