@@ -2,7 +2,7 @@
 # qemu-vcan.sh — run a command on a virtual CAN bus (vcan0) inside a Debian
 # kernel booted under qemu, for machines whose own kernel has no CAN support.
 #
-#   tests/bench/qemu-vcan.sh [--cache DIR] [--timeout SEC] [--prepare-only] -- COMMAND [ARG...]
+#   tests/bench/qemu-vcan.sh [--cache DIR] [--timeout SEC] [--prepare-only] [--systemd] -- COMMAND [ARG...]
 #
 # The guest runs Debian 12's kernel (linux-image-amd64 → linux-image-6.1.0-*-amd64,
 # fetched with apt-get download into the cache) with a busybox initramfs that
@@ -12,6 +12,12 @@
 # tmpfs; $GVS_BENCH_OUT (a per-run folder under the cache) is writable and
 # shared with the host. COMMAND's output appears on this script's stdout;
 # the script exits with COMMAND's exit code.
+#
+# --systemd boots systemd as PID 1 instead: the host root (read-only 9p)
+# under a tmpfs overlay, so the guest can install packages and start units,
+# and COMMAND runs as the unit gvs-bench.service of the target
+# gvs-bench.target (basic.target, nothing of the host's multi-user.target);
+# its output is printed when the guest has powered off.
 #
 # Exit codes: COMMAND's own; 125 if the guest did not boot or did not report
 # (message and console tail on stderr); 126 if qemu/kernel/busybox cannot be
@@ -25,6 +31,7 @@ set -euo pipefail
 CACHE="${GVS_BENCH_CACHE:-${PWD}/bench-cache}"
 TIMEOUT=300
 PREPARE_ONLY=0
+SYSTEMD=0
 MEMORY_MB=1024
 
 die() { echo "qemu-vcan: $*" >&2; exit "${2:-126}"; }
@@ -34,6 +41,7 @@ while [[ $# -gt 0 ]]; do
     --cache) CACHE="$2"; shift 2 ;;
     --timeout) TIMEOUT="$2"; shift 2 ;;
     --prepare-only) PREPARE_ONLY=1; shift ;;
+    --systemd) SYSTEMD=1; shift ;;
     --) shift; break ;;
     -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) break ;;
@@ -84,7 +92,7 @@ MODDIR="$KDIR/root/lib/modules/$KVER"
 
 # --- initramfs -----------------------------------------------------------------
 WANT_MODULES=(configfs can-dev vcan can can-raw virtio_ring virtio virtio_pci_modern_dev
-  virtio_pci_legacy_dev virtio_pci netfs fscache 9pnet 9pnet_virtio 9p)
+  virtio_pci_legacy_dev virtio_pci netfs fscache 9pnet 9pnet_virtio 9p overlay)
 INITRD="$CACHE/initramfs-$KVER.cpio.gz"
 if [[ ! -f "$INITRD" || "$0" -nt "$INITRD" ]]; then
   IR="$CACHE/initramfs-root"
@@ -130,11 +138,30 @@ export PATH=/bin
 mount -t proc proc /proc; mount -t sysfs sys /sys; mount -t devtmpfs dev /dev
 for m in $(cat /modules/order); do insmod /modules/$m 2>/dev/null || echo "gvs-bench: insmod $m failed"; done
 set -- $(cat /proc/cmdline)
-RUN=""; for a; do case "$a" in gvs.run=*) RUN="${a#gvs.run=}";; esac; done
+RUN=""; SYSTEMD=""
+for a; do case "$a" in gvs.run=*) RUN="${a#gvs.run=}";; gvs.systemd=1) SYSTEMD=1;; esac; done
 fail() { echo "gvs-bench: $*"; poweroff -f; }
 ip link add dev vcan0 type vcan || fail "cannot create vcan0"
 ip link set vcan0 up || fail "cannot raise vcan0"
 mount -t 9p -o trans=virtio,version=9p2000.L,ro hostroot /host || fail "cannot mount the host root over 9p"
+if [ -n "$SYSTEMD" ]; then
+  # systemd as PID 1 on the host root with a writable tmpfs overlay.
+  mkdir -p /overlay /newroot
+  mount -t tmpfs -o size=768m,mode=0755 upper /overlay
+  mkdir -p /overlay/upper /overlay/work
+  mount -t overlay overlay -o lowerdir=/host,upperdir=/overlay/upper,workdir=/overlay/work /newroot ||
+    fail "cannot mount the overlay root"
+  mount -t 9p -o trans=virtio,version=9p2000.L gvsrun "/newroot$RUN" || fail "cannot mount the run folder"
+  U=/newroot/etc/systemd/system
+  mkdir -p "$U"
+  printf '%s\n' '[Unit]' 'Description=gvs bench target' 'Requires=basic.target gvs-bench.service' \
+    'After=basic.target gvs-bench.service' 'AllowIsolate=yes' > "$U/gvs-bench.target"
+  printf '%s\n' '[Unit]' 'Description=gvs bench command' 'After=basic.target' '[Service]' 'Type=oneshot' \
+    "ExecStart=/bin/sh -c '/bin/sh $RUN/cmd.sh > $RUN/output.log 2>&1; echo \$? > $RUN/rc; sync; systemctl poweroff -ff'" \
+    > "$U/gvs-bench.service"
+  umount /proc /sys 2>/dev/null; umount /dev 2>/dev/null
+  exec switch_root /newroot /lib/systemd/systemd systemd.unit=gvs-bench.target
+fi
 mount -t 9p -o trans=virtio,version=9p2000.L gvsrun "/host$RUN" || fail "cannot mount the run folder"
 mount -t proc proc /host/proc; mount -t sysfs sys /host/sys; mount -t devtmpfs dev /host/dev
 mount -t tmpfs tmp /host/tmp
@@ -161,10 +188,13 @@ mkdir -p "$RUN/out"
   printf '%q ' "$@"; echo
 } > "$RUN/cmd.sh"
 
+EXTRA_APPEND=""
+[[ $SYSTEMD -eq 1 ]] && EXTRA_APPEND=" gvs.systemd=1 systemd.show_status=0 systemd.log_level=warning"
+
 set +e
 timeout --foreground "$TIMEOUT" qemu-system-x86_64 -m "$MEMORY_MB" -smp 2 -nographic -no-reboot \
   -kernel "$VMLINUZ" -initrd "$INITRD" \
-  -append "console=ttyS0 quiet loglevel=3 panic=-1 gvs.run=$RUN" \
+  -append "console=ttyS0 quiet loglevel=3 panic=-1 gvs.run=$RUN$EXTRA_APPEND" \
   -virtfs "local,path=/,mount_tag=hostroot,security_model=none,readonly=on,multidevs=remap" \
   -virtfs "local,path=$RUN,mount_tag=gvsrun,security_model=none,multidevs=remap" \
   -nic none < /dev/null 2>&1 | tee "$RUN/console.log" |
@@ -181,5 +211,6 @@ if [[ ! -f "$RUN/rc" ]]; then
   exit 125
 fi
 rc="$(cat "$RUN/rc")"
+[[ $SYSTEMD -eq 1 && -f "$RUN/output.log" ]] && cat "$RUN/output.log"
 rm -rf "$RUN"
 exit "$rc"

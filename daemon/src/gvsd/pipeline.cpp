@@ -2,8 +2,11 @@
 // made here, before the first frame.
 #include "gvs/daemon/pipeline.hpp"
 
+#include <pthread.h>
+
 #include <chrono>
 #include <stdexcept>
+#include <string>
 
 #include "gvs/daemon/clock.hpp"
 
@@ -100,6 +103,9 @@ void Pipeline::start() {
 }
 
 void Pipeline::run_thread(ThreadRole role, const ThreadConfig& config) {
+  // Named for `ps -L`, `top -H` and tests: gvsd-capture, gvsd-processing,
+  // gvsd-sender (at most 15 characters, the kernel's limit).
+  (void)pthread_setname_np(pthread_self(), (std::string("gvsd-") + role_name(role)).c_str());
   reports_[static_cast<std::size_t>(role)] = setup_this_thread(config, config_.prefault_stack_kb);
   if (hooks_.on_loop_start) hooks_.on_loop_start(role);
   threads_ready_.fetch_add(1, std::memory_order_acq_rel);

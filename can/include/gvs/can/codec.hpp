@@ -96,7 +96,7 @@ VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* estimate, std::
 
 struct EncoderConfig {
   std::uint32_t base_id = kDefaultBaseId;
-  std::int64_t stale_after_ms = 100;  ///< older estimates are sent with Valid = 0
+  std::int64_t stale_after_ms = 50;  ///< older estimates are sent with Valid = 0 (gvsd: staleness_limit_ms)
 };
 
 /// Keeps one alive counter per message; the CAN sender's only codec object.
