@@ -152,6 +152,8 @@ if [ -n "$SYSTEMD" ]; then
   mount -t overlay overlay -o lowerdir=/host,upperdir=/overlay/upper,workdir=/overlay/work /newroot ||
     fail "cannot mount the overlay root"
   mount -t 9p -o trans=virtio,version=9p2000.L gvsrun "/newroot$RUN" || fail "cannot mount the run folder"
+  # A fresh /tmp: systemd-tmpfiles would otherwise walk the host's /tmp over 9p.
+  mount -t tmpfs tmp /newroot/tmp
   U=/newroot/etc/systemd/system
   mkdir -p "$U"
   printf '%s\n' '[Unit]' 'Description=gvs bench target' 'Requires=basic.target gvs-bench.service' \
