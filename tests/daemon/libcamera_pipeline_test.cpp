@@ -56,18 +56,18 @@ TEST(LibcameraPipeline, UnpluggedCameraGoesOutInvalidWithCameraFaultThenRecovers
   s.camera = {64, 48, 0.1, 0.0};
   s.fps = 60.0;
   s.exposure_initial_us = 1000.0;
-  s.retry_interval_ms = 100.0;
+  s.retry_interval_ms = 300.0;
   auto source = std::make_unique<LibcameraSource>(std::make_unique<testing::FakeCameraDevice>(cam), s);
   const LibcameraSource* src = source.get();
   Pipeline p(c, std::move(source), std::make_unique<ConstantEstimator>(), can::open_sink("candump:" + log));
   p.start();
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
   const std::int64_t unplugged_real = real_now_ns();
   cam->present = false;
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const std::int64_t replugged_real = real_now_ns();
   cam->present = true;
-  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1200));
   p.request_stop();
   p.join();
   const CameraHealth h = src->health();
@@ -77,13 +77,13 @@ TEST(LibcameraPipeline, UnpluggedCameraGoesOutInvalidWithCameraFaultThenRecovers
   int valid_before = 0, gone_checked = 0, gone_valid = 0, valid_after = 0;
   for (const auto& m : msgs.velocity) {
     const bool valid = m.decoded.velocity.valid || m.decoded.velocity.speed_valid;
-    if (m.t_ns > unplugged_real - 300 * kNsPerMs && m.t_ns < unplugged_real - 20 * kNsPerMs) valid_before += valid;
+    if (m.t_ns > unplugged_real - 600 * kNsPerMs && m.t_ns < unplugged_real - 20 * kNsPerMs) valid_before += valid;
     // staleness limit 50 ms + the last frame's age at the unplug (one period) + one CAN period + slack
     if (m.t_ns > unplugged_real + 100 * kNsPerMs && m.t_ns < replugged_real) {
       ++gone_checked;
       gone_valid += valid;
     }
-    if (m.t_ns > replugged_real + 500 * kNsPerMs) valid_after += valid;
+    if (m.t_ns > replugged_real + 700 * kNsPerMs) valid_after += valid;
   }
   EXPECT_GE(valid_before, 10) << "frames flow: valid velocity";
   EXPECT_GE(gone_checked, 15);
@@ -96,12 +96,13 @@ TEST(LibcameraPipeline, UnpluggedCameraGoesOutInvalidWithCameraFaultThenRecovers
     if (m.t_ns > unplugged_real + 150 * kNsPerMs && m.t_ns < replugged_real) {
       fault_statuses += (st.faults & can::kFaultCamera) != 0 && st.state == can::SensorState::Fault;
     }
-    if (m.t_ns > replugged_real + 500 * kNsPerMs) running_after += st.state == can::SensorState::Running;
+    if (m.t_ns > replugged_real + 700 * kNsPerMs) running_after += st.state == can::SensorState::Running;
   }
   EXPECT_GE(fault_statuses, 2) << "GVS_Status carries the camera fault and state Fault";
   EXPECT_GE(running_after, 1);
   EXPECT_EQ(h.disconnects, 1u);
-  EXPECT_EQ(h.restarts, 1u);
+  EXPECT_GE(h.restarts, 1u);  // more only if a starved machine made the camera look silent
+  EXPECT_LE(h.restarts, 3u);
   EXPECT_GT(p.counters().source_errors.load(), 3u) << "the capture thread counts the missing frames";
 }
 

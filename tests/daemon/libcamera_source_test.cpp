@@ -25,7 +25,7 @@ LibcameraSettings small_settings() {
   s.buffer_count = 3;
   s.exposure_initial_us = 1000.0;
   s.exposure_max_us = 3000.0;
-  s.retry_interval_ms = 100.0;
+  s.retry_interval_ms = 300.0;  // long enough that a loaded 2-core machine does not look like a silent camera
   return s;
 }
 
@@ -223,8 +223,8 @@ TEST(LibcameraSource, UnpluggedCameraErrorsWithinStallPeriodsAndRecoversWhenBack
     error_at = mono_now_ns();
   }
   ASSERT_EQ(st, SourceStatus::error);
-  // 3 periods of 20 ms after the last frame + the frames queued at the unplug + 40 ms slack for a busy machine.
-  EXPECT_LT(error_at - unplugged, (3 + 3) * 20 * kNsPerMs + 40 * kNsPerMs);
+  // 3 periods of 20 ms after the last frame + the frames queued at the unplug + 100 ms slack for a busy machine.
+  EXPECT_LT(error_at - unplugged, (3 + 3) * 20 * kNsPerMs + 100 * kNsPerMs);
   std::this_thread::sleep_for(std::chrono::milliseconds(150));
   CameraHealth h = rig.source->health();
   EXPECT_EQ(h.disconnects, 1u);
@@ -236,7 +236,8 @@ TEST(LibcameraSource, UnpluggedCameraErrorsWithinStallPeriodsAndRecoversWhenBack
   rig.cam->present = true;
   ASSERT_TRUE(rig.frame(100)) << "the source re-opens the camera when it is back";
   h = rig.source->health();
-  EXPECT_EQ(h.restarts, 1u);
+  EXPECT_GE(h.restarts, 1u);
+  EXPECT_LE(h.restarts, 3u) << "no restart loop once the camera is back";
   EXPECT_TRUE(h.streaming);
   EXPECT_GE(rig.cam->opens.load(), 2);
   const std::int64_t first_after = rig.slot.view.index;
@@ -249,7 +250,7 @@ TEST(LibcameraSource, SilentCameraIsRestarted) {
   ASSERT_TRUE(rig.frame());
   rig.cam->stalled = true;
   int errors = 0;
-  const std::int64_t until = mono_now_ns() + 400 * kNsPerMs;
+  const std::int64_t until = mono_now_ns() + 900 * kNsPerMs;
   while (mono_now_ns() < until) errors += rig.source->next(rig.slot, rig.stop) == SourceStatus::error ? 1 : 0;
   EXPECT_GE(errors, 3);
   EXPECT_GE(rig.cam->starts.load(), 2) << "a camera silent for retry_interval_ms is stopped and started again";
