@@ -82,13 +82,13 @@ TEST(LibcameraSource, NoCameraSaysWhatToCheck) {
 TEST(LibcameraSource, OpensTheCameraByIdWithTheConfiguredStream) {
   LibcameraSettings s = small_settings();
   s.camera_id = "/base/fake/imx296@1a";
-  s.pixel_format = drivers::CameraPixelFormat::yuv420;
+  s.pixel_format = drivers::CameraPixelFormat::r8;
   Rig rig(s);
   EXPECT_EQ(rig.source->camera_id(), s.camera_id);
   EXPECT_EQ(rig.cam->opens.load(), 1);
   EXPECT_EQ(rig.cam->last_request.width_px, 64);
   EXPECT_EQ(rig.cam->last_request.height_px, 48);
-  EXPECT_EQ(rig.cam->last_request.pixel_format, drivers::CameraPixelFormat::yuv420);
+  EXPECT_EQ(rig.cam->last_request.pixel_format, drivers::CameraPixelFormat::r8);
   EXPECT_EQ(rig.cam->last_request.buffer_count, 3);
   EXPECT_NE(rig.source->describe().find("libcamera:/base/fake/imx296@1a"), std::string::npos);
 }
@@ -263,15 +263,16 @@ TEST(LibcameraSource, SilentCameraIsRestarted) {
 
 TEST(LibcameraConfig, ReadsTheLibcameraSectionAndChecksIt) {
   const DaemonConfig c = parse_config(
-      "[libcamera]\nfps = 120\npixel_format = \"YUV420\"\nbuffer_count = 6\nexposure_min_us = 20\n"
+      "[libcamera]\nfps = 120\npixel_format = \"R8\"\nbuffer_count = 6\nexposure_min_us = 20\n"
       "gain_min = 1.5\ngain_max = 4\nstall_periods = 2\nretry_interval_ms = 250\n",
       "t.toml");
   EXPECT_DOUBLE_EQ(c.libcamera_fps, 120.0);
-  EXPECT_EQ(c.libcamera_pixel_format, "YUV420");
+  EXPECT_EQ(c.libcamera_pixel_format, "R8");
   EXPECT_EQ(c.libcamera_buffer_count, 6);
   const LibcameraSettings s = libcamera_settings(c, "cam1");
   EXPECT_EQ(s.camera_id, "cam1");
-  EXPECT_EQ(s.pixel_format, drivers::CameraPixelFormat::yuv420);
+  EXPECT_EQ(s.pixel_format, drivers::CameraPixelFormat::r8);
+  EXPECT_EQ(libcamera_settings(DaemonConfig{}, "").pixel_format, drivers::CameraPixelFormat::yuv420) << "default";
   EXPECT_DOUBLE_EQ(s.gain_min, 1.5);
   EXPECT_DOUBLE_EQ(s.exposure_max_us, c.exposure_max_us);
   EXPECT_DOUBLE_EQ(s.retry_interval_ms, 250.0);

@@ -172,8 +172,8 @@ void LibcameraSource::request_completed(const drivers::CompletedRequest& done) n
 }
 
 void LibcameraSource::camera_disconnected() noexcept {
-  bump(counters_.disconnects);
-  streaming_.store(false);
+  // libcamera signals both Camera::disconnected and CameraManager::cameraRemoved: count the loss once.
+  if (streaming_.exchange(false)) bump(counters_.disconnects);
   restart_wanted_.store(true);
   supervisor_wake_.post();
   frame_ready_.post();

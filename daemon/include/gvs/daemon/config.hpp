@@ -61,7 +61,7 @@ struct DaemonConfig {
 
   // [libcamera] (source libcamera[:ID]; restart only)
   double libcamera_fps = 60.0;
-  std::string libcamera_pixel_format = "R8";  ///< R8 | YUV420
+  std::string libcamera_pixel_format = "YUV420";  ///< YUV420 (through the ISP) | R8 (8-bit mono raw)
   int libcamera_buffer_count = 4;
   double libcamera_exposure_min_us = 10.0;
   double libcamera_gain_min = 1.0;

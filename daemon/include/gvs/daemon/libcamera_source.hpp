@@ -27,7 +27,7 @@ struct LibcameraSettings {
   std::string camera_id;  ///< empty: the first camera the library lists
   dsp::CameraGeometry camera;
   double fps = 60.0;
-  drivers::CameraPixelFormat pixel_format = drivers::CameraPixelFormat::r8;
+  drivers::CameraPixelFormat pixel_format = drivers::CameraPixelFormat::yuv420;
   int buffer_count = 4;
   double exposure_initial_us = 3000.0;
   double exposure_min_us = 10.0;    ///< shortest ExposureTime sent
