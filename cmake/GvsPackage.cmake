@@ -18,9 +18,8 @@ install(FILES ${PROJECT_SOURCE_DIR}/systemd/gvs-vcan.service DESTINATION ${CMAKE
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/systemd/gvs-vcan.sh DESTINATION ${CMAKE_INSTALL_DATADIR}/gvs/bench COMPONENT gvs)
 
 # The car's configuration: the documented example with the car's source and
-# bus. Until the libcamera source exists (hardware issue) gvsd refuses
-# `libcamera` at start with a message, rather than putting a simulated
-# velocity on a real car's bus.
+# bus. Without a camera gvsd stops at start with a message (never a
+# simulated velocity on a real car's bus).
 file(READ ${PROJECT_SOURCE_DIR}/systemd/gvsd.toml gvs_car_toml)
 string(REPLACE "uri = \"sim:sine\"" "uri = \"libcamera\"" gvs_car_toml "${gvs_car_toml}")
 string(REPLACE "uri = \"candump:-\"" "uri = \"socketcan:can0\"" gvs_car_toml "${gvs_car_toml}")

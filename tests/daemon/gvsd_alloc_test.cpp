@@ -15,9 +15,11 @@
 #include <sstream>
 #include <thread>
 
+#include "fake_camera_device.hpp"
 #include "gvs/can/sink.hpp"
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/libcamera_source.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
@@ -137,15 +139,7 @@ std::string make_replay_dataset(int width_px, std::uint64_t frames) {
 
 /// Runs `source_uri` through the whole pipeline, arms the counter after
 /// `warmup` processed frames and counts over the next `frames`.
-void count_allocations(const std::string& estimator, const std::string& source_uri, int width_px,
-                       std::uint64_t frames) {
-#if !GVSD_ALLOC_HOOKS
-  GTEST_SKIP() << "allocation counting replaces malloc, which the sanitizer runtime owns; "
-                  "run gvsd_alloc_test in the release build";
-#endif
-  void* prime[2];
-  (void)backtrace(prime, 2);  // loads libgcc's unwinder now, not while counting
-
+DaemonConfig alloc_config(const std::string& estimator, const std::string& source_uri, int width_px) {
   DaemonConfig c;
   c.source_uri = source_uri;
   c.estimator_method = estimator;
@@ -155,9 +149,26 @@ void count_allocations(const std::string& estimator, const std::string& source_u
   c.capture_thread.priority = 0;
   c.processing_thread.priority = 0;
   c.sender_thread.priority = 0;
+  return c;
+}
+
+void count_allocations(const DaemonConfig& c, std::unique_ptr<FrameSource> source, std::uint64_t frames);
+
+void count_allocations(const std::string& estimator, const std::string& source_uri, int width_px,
+                       std::uint64_t frames) {
+#if !GVSD_ALLOC_HOOKS
+  GTEST_SKIP() << "allocation counting replaces malloc, which the sanitizer runtime owns; "
+                  "run gvsd_alloc_test in the release build";
+#endif
+  const DaemonConfig c = alloc_config(estimator, source_uri, width_px);
+  count_allocations(c, make_frame_source(c), frames);
+}
+
+void count_allocations(const DaemonConfig& c, std::unique_ptr<FrameSource> source, std::uint64_t frames) {
+  void* prime[2];
+  (void)backtrace(prime, 2);  // loads libgcc's unwinder now, not while counting
   const std::string log =
       (std::filesystem::temp_directory_path() / ("gvsd_alloc_" + std::to_string(getpid()) + ".log")).string();
-  auto source = make_frame_source(c);
   auto est = make_frame_estimator(c.estimator_method, source->geometry());
   PipelineHooks hooks;
   hooks.on_loop_start = [](ThreadRole role) { t_role = static_cast<int>(role); };
@@ -218,6 +229,22 @@ TEST(AllocationCounter, CountsAnAllocationOnAMarkedThread) {
 // allocates while rendering; see docs/daemon.md.)
 TEST(NoAllocation, DaemonPathsOver1000Frames) {
   count_allocations("truth", "replay:" + make_replay_dataset(128, 1100), 128, 1000);
+}
+
+// The libcamera source's capture path (hand-off -> ring) on the fake camera
+// at 200 fps: the capture thread's next() copies, never allocates. (The
+// camera's own thread is not an RT thread of gvsd and is not counted.)
+TEST(NoAllocation, LibcameraSourceOnAFakeCameraOver600Frames) {
+#if !GVSD_ALLOC_HOOKS
+  GTEST_SKIP() << "allocation counting replaces malloc, which the sanitizer runtime owns; "
+                  "run gvsd_alloc_test in the release build";
+#endif
+  const DaemonConfig c = alloc_config("truth", "libcamera", 128);
+  auto cam = std::make_shared<testing::FakeCamera>();
+  cam->fps = 200.0;
+  LibcameraSettings s = libcamera_settings(c, "");
+  s.fps = 200.0;
+  count_allocations(c, std::make_unique<LibcameraSource>(std::make_unique<testing::FakeCameraDevice>(cam), s), 600);
 }
 
 // The same with the real estimator "gvs": its FFTs run on plans made during

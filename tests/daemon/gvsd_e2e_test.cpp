@@ -362,9 +362,13 @@ TEST(Gvsd, BadConfigurationStopsStartUpNamingKeyAndRange) {
 }
 
 TEST(Gvsd, RefusesLibcameraAndUnknownSourcesClearly) {
+  // This machine has no camera: the libcamera source stops start-up saying what to check.
   const Child a = spawn({"--source", "libcamera:0"}, "libcamera");
   EXPECT_EQ(wait_exit(a), 1);
-  EXPECT_NE(slurp(a.err).find("libcamera source is not implemented yet"), std::string::npos) << slurp(a.err);
+  const std::string a_err = slurp(a.err);
+  EXPECT_TRUE(a_err.find("no camera found") != std::string::npos ||
+              a_err.find("built without libcamera") != std::string::npos)
+      << a_err;
   const Child b = spawn({"--can", "carrier-pigeon:x"}, "badcan");
   EXPECT_EQ(wait_exit(b), 1);
   EXPECT_NE(slurp(b.err).find("carrier-pigeon"), std::string::npos) << slurp(b.err);

@@ -6,7 +6,8 @@
 // its centre at right angles to them; a sharp frame has energy far from the
 // centre, a defocused one only near it).
 //   gvs snapshot --dataset DIR [--frame N] --out FILE.png [--method gvs]
-// The live camera (--source libcamera) comes with the libcamera source.
+//   gvs snapshot --out FILE.png [--source URI] [--config gvsd.toml]   (live:
+//     the configured source, e.g. libcamera; the last of a few frames)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.hpp"
+#include "live_source.hpp"
 #include "gvs/daemon/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/dsp/frame_check.hpp"
@@ -32,7 +34,9 @@ namespace gvs::cli {
 namespace {
 
 struct SnapshotOptions {
-  std::string dataset;
+  std::string dataset;     ///< empty: the live source
+  std::string config_file;
+  std::string source_uri;
   long frame = -1;  ///< position in frames.csv; -1 = the last
   std::string out;
   std::string method = "gvs";
@@ -58,7 +62,53 @@ cv::Mat spectrum_image(const cv::Mat& gray) {
   return out;
 }
 
-void run_snapshot(const SnapshotOptions& o) {
+/// The frame with the estimate drawn on it and its spectrum beside it.
+void draw_snapshot(const cv::Mat& gray, const dsp::VelocityEstimate& e, std::int64_t index,
+                   const dsp::ExposurePlan& exposure, double mount_yaw_deg, const std::string& out_file) {
+  const dsp::FrameStats stats = dsp::measure_frame(gray);
+
+  cv::Mat left;
+  cv::cvtColor(gray, left, cv::COLOR_GRAY2BGR);
+  cv::Mat right(gray.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Mat spectrum = spectrum_image(gray);
+  cv::cvtColor(spectrum, right(cv::Rect(0, 0, spectrum.cols, spectrum.rows)), cv::COLOR_GRAY2BGR);
+  const cv::Point2d centre(gray.cols / 2.0, gray.rows / 2.0);
+  const double arm = 0.4 * std::min(gray.cols, gray.rows);
+  if (e.has_direction) {
+    // Ground motion in the image: a ground point moves by
+    // (d_row, d_col) = (v_x, v_y) of the velocity in camera axes
+    // (shared/spec/dataset-format.md); the car's own direction is opposite.
+    const dsp::Vec2 v_cam = dsp::vehicle_to_camera({std::cos(dsp::deg_to_rad(e.direction_deg)),
+                                                    std::sin(dsp::deg_to_rad(e.direction_deg))},
+                                                   mount_yaw_deg);
+    const cv::Point2d d(v_cam.y * arm, v_cam.x * arm);  // (x = col, y = row)
+    cv::line(left, centre - d, centre + d, cv::Scalar(0, 200, 255), 1, cv::LINE_AA);  // blur axis
+    cv::arrowedLine(left, centre, centre + d, cv::Scalar(0, 255, 0), 2, cv::LINE_AA, 0, 0.15);
+  }
+  cv::Mat canvas(gray.rows + 64, gray.cols * 2, CV_8UC3, cv::Scalar(20, 20, 20));
+  left.copyTo(canvas(cv::Rect(0, 0, gray.cols, gray.rows)));
+  right.copyTo(canvas(cv::Rect(gray.cols, 0, gray.cols, gray.rows)));
+  const std::string line1 =
+      e.quality > 0.0
+          ? fmt::format("frame {}  {}  speed {}  direction {}  yaw {}  quality {:.2f}", index, e.method,
+                        e.has_speed ? fmt::format("{:.2f} m/s", e.speed_mps) : std::string("-"),
+                        e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
+                        e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality)
+          : fmt::format("frame {}  no estimate: {}", index, e.method);
+  const std::string line2 = fmt::format(
+      "exposure {:.1f} us, {} pulse(s)   mean grey {:.0f}  contrast {:.1f}  saturated {:.1f} %   "
+      "green: ground motion, orange: blur axis   right: spectrum",
+      exposure.exposure_us, exposure.pulse_count, stats.mean_grey, stats.contrast_grey,
+      100.0 * stats.saturated_fraction);
+  cv::putText(canvas, line1, cv::Point(8, gray.rows + 24), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255),
+              1, cv::LINE_AA);
+  cv::putText(canvas, line2, cv::Point(8, gray.rows + 50), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+              cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
+  if (!cv::imwrite(out_file, canvas)) throw std::runtime_error(out_file + ": cannot be written");
+  std::printf("%s\n%s\nwrote %s\n", line1.c_str(), line2.c_str(), out_file.c_str());
+}
+
+void snapshot_from_dataset(const SnapshotOptions& o) {
   const drivers::DatasetReader dataset(o.dataset);
   const auto n = static_cast<long>(dataset.frames().size());
   const long target = o.frame < 0 ? n - 1 : o.frame;
@@ -84,48 +134,37 @@ void run_snapshot(const SnapshotOptions& o) {
     e = processor.process(v);
   }
   const drivers::FrameRecord& rec = dataset.frames()[static_cast<std::size_t>(target)];
-  const dsp::FrameStats stats = dsp::measure_frame(gray);
-
-  cv::Mat left;
-  cv::cvtColor(gray, left, cv::COLOR_GRAY2BGR);
-  cv::Mat right(gray.size(), CV_8UC3, cv::Scalar(0, 0, 0));
-  const cv::Mat spectrum = spectrum_image(gray);
-  cv::cvtColor(spectrum, right(cv::Rect(0, 0, spectrum.cols, spectrum.rows)), cv::COLOR_GRAY2BGR);
-  const cv::Point2d centre(gray.cols / 2.0, gray.rows / 2.0);
-  const double arm = 0.4 * std::min(gray.cols, gray.rows);
-  if (e.has_direction) {
-    // Ground motion in the image: a ground point moves by
-    // (d_row, d_col) = (v_x, v_y) of the velocity in camera axes
-    // (shared/spec/dataset-format.md); the car's own direction is opposite.
-    const dsp::Vec2 v_cam = dsp::vehicle_to_camera({std::cos(dsp::deg_to_rad(e.direction_deg)),
-                                                    std::sin(dsp::deg_to_rad(e.direction_deg))},
-                                                   dataset.camera().geometry.mount_yaw_deg);
-    const cv::Point2d d(v_cam.y * arm, v_cam.x * arm);  // (x = col, y = row)
-    cv::line(left, centre - d, centre + d, cv::Scalar(0, 200, 255), 1, cv::LINE_AA);  // blur axis
-    cv::arrowedLine(left, centre, centre + d, cv::Scalar(0, 255, 0), 2, cv::LINE_AA, 0, 0.15);
-  }
-  cv::Mat canvas(gray.rows + 64, gray.cols * 2, CV_8UC3, cv::Scalar(20, 20, 20));
-  left.copyTo(canvas(cv::Rect(0, 0, gray.cols, gray.rows)));
-  right.copyTo(canvas(cv::Rect(gray.cols, 0, gray.cols, gray.rows)));
-  const std::string line1 =
-      e.quality > 0.0
-          ? fmt::format("frame {}  {}  speed {}  direction {}  yaw {}  quality {:.2f}", rec.index, e.method,
-                        e.has_speed ? fmt::format("{:.2f} m/s", e.speed_mps) : std::string("-"),
-                        e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
-                        e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality)
-          : fmt::format("frame {}  no estimate: {}", rec.index, e.method);
-  const std::string line2 = fmt::format(
-      "exposure {:.1f} us, {} pulse(s)   mean grey {:.0f}  contrast {:.1f}  saturated {:.1f} %   "
-      "green: ground motion, orange: blur axis   right: spectrum",
-      rec.exposure.exposure_us, rec.exposure.pulse_count, stats.mean_grey, stats.contrast_grey,
-      100.0 * stats.saturated_fraction);
-  cv::putText(canvas, line1, cv::Point(8, gray.rows + 24), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255),
-              1, cv::LINE_AA);
-  cv::putText(canvas, line2, cv::Point(8, gray.rows + 50), cv::FONT_HERSHEY_SIMPLEX, 0.4,
-              cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
-  if (!cv::imwrite(o.out, canvas)) throw std::runtime_error(o.out + ": cannot be written");
-  std::printf("%s\n%s\nwrote %s\n", line1.c_str(), line2.c_str(), o.out.c_str());
+  draw_snapshot(gray, e, rec.index, rec.exposure, dataset.camera().geometry.mount_yaw_deg, o.out);
 }
+
+/// The live source: a few frames (pair methods and the sign need history), the last one drawn.
+void snapshot_live(const SnapshotOptions& o) {
+  LiveSource live = open_live_source(o.config_file, o.source_uri);
+  daemon::FrameProcessorConfig config;
+  config.estimator.method = o.method;
+  config.estimator.camera = live.source->geometry();
+  daemon::FrameProcessor processor(config);
+  install_stop_signals();
+  dsp::VelocityEstimate e;
+  int frames = 0, errors = 0;
+  while (frames < 6) {
+    const daemon::SourceStatus st = live.source->next(live.slot, stop_requested());
+    if (st == daemon::SourceStatus::stopped || st == daemon::SourceStatus::end) break;
+    if (st == daemon::SourceStatus::error || live.slot.defect != nullptr) {
+      if (++errors > 100) break;
+      continue;
+    }
+    e = processor.process(live.slot.view);
+    ++frames;
+  }
+  if (frames == 0) {
+    throw std::runtime_error("no frame from " + live.source->describe() + " (" + std::to_string(errors) +
+                             " errors) " + live.source->health_text());
+  }
+  draw_snapshot(live.slot.view.gray, e, live.slot.view.index, live.slot.view.exposure,
+                live.source->geometry().mount_yaw_deg, o.out);
+}
+
 
 }  // namespace
 
@@ -134,12 +173,21 @@ void register_snapshot(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "snapshot", "One frame with its estimate drawn on it and its spectrum beside it (focus, light, mounting)");
   cmd->add_option("--dataset", opts->dataset, "gvs-dataset folder (a recording, or gvs sim's output)")
-      ->required()
       ->check(CLI::ExistingDirectory);
+  cmd->add_option("--source", opts->source_uri,
+                  "Without --dataset: live source URI (default: the configuration's), e.g. libcamera, sim:sine");
+  cmd->add_option("--config", opts->config_file, "Without --dataset: gvsd configuration (TOML)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--frame", opts->frame, "Position in frames.csv (default: the last)");
   cmd->add_option("--out", opts->out, "PNG to write")->required();
   cmd->add_option("--method", opts->method, "Estimator")->capture_default_str();
-  cmd->callback([opts] { run_snapshot(*opts); });
+  cmd->callback([opts] {
+    if (!opts->dataset.empty()) {
+      snapshot_from_dataset(*opts);
+    } else {
+      snapshot_live(*opts);
+    }
+  });
 }
 
 }  // namespace gvs::cli

@@ -13,5 +13,6 @@ void register_eval(CLI::App& app);
 void register_monitor(CLI::App& app);
 void register_calibrate(CLI::App& app);
 void register_snapshot(CLI::App& app);
+void register_record(CLI::App& app);
 
 }  // namespace gvs::cli

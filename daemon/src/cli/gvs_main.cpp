@@ -7,7 +7,7 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor, calibrate, snapshot)"};
+  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor, calibrate, snapshot, record)"};
   app.require_subcommand(1);
   gvs::cli::register_sim(app);
   gvs::cli::register_replay(app);
@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   gvs::cli::register_monitor(app);
   gvs::cli::register_calibrate(app);
   gvs::cli::register_snapshot(app);
+  gvs::cli::register_record(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -199,8 +199,10 @@ int run(const CommandLine& cli) {
     if (now >= next_health_ns) {
       const HealthSnapshot h = snapshot(pipeline->counters());
       const PublishedEstimate latest = pipeline->latest();
-      spdlog::info("{}", format_health_line(h, last_health, latest, now,
-                                            static_cast<double>(now - last_health_ns) / 1e9));
+      const std::string camera = pipeline->source().health_text();
+      spdlog::info("{}{}{}", format_health_line(h, last_health, latest, now,
+                                                static_cast<double>(now - last_health_ns) / 1e9),
+                   camera.empty() ? "" : " | ", camera);
       sd_notifyf(0, "STATUS=%s", format_status_text(h, latest, now).c_str());
       last_health = h;
       last_health_ns = now;

@@ -219,6 +219,21 @@ DaemonConfig parse_config(std::string_view toml_text, const std::string& origin)
                       fmt_num(c.exposure_max_us) + ")");
   }
 
+  Section cam(top.table("libcamera"), "libcamera", origin);
+  cam.real("fps", c.libcamera_fps, 1.0, 1000.0, "frames/s");
+  cam.text("pixel_format", c.libcamera_pixel_format, {"R8", "YUV420"});
+  cam.integer("buffer_count", c.libcamera_buffer_count, 2, 16, "buffers");
+  cam.real("exposure_min_us", c.libcamera_exposure_min_us, 1.0, 100000.0, "us");
+  cam.real("gain_min", c.libcamera_gain_min, 1.0, 64.0, "");
+  cam.real("gain_max", c.libcamera_gain_max, 1.0, 64.0, "");
+  cam.real("stall_periods", c.libcamera_stall_periods, 1.0, 100.0, "frame periods");
+  cam.real("retry_interval_ms", c.libcamera_retry_interval_ms, 10.0, 60000.0, "ms");
+  cam.finish();
+  if (c.libcamera_gain_min > c.libcamera_gain_max) {
+    throw ConfigError(origin + ": [libcamera] needs gain_min <= gain_max (got " + fmt_num(c.libcamera_gain_min) +
+                      ", " + fmt_num(c.libcamera_gain_max) + ")");
+  }
+
   Section threads(top.table("threads"), "threads", origin);
   read_thread(threads, "capture", c.capture_thread, origin);
   read_thread(threads, "processing", c.processing_thread, origin);
@@ -265,6 +280,12 @@ std::vector<std::string> restart_only_changes(const DaemonConfig& a, const Daemo
   check(a.lever_arm_x_m != b.lever_arm_x_m, "camera.lever_arm_x_m");
   check(a.lever_arm_y_m != b.lever_arm_y_m, "camera.lever_arm_y_m");
   check(a.estimator_method != b.estimator_method, "estimator.method");
+  check(a.libcamera_fps != b.libcamera_fps || a.libcamera_pixel_format != b.libcamera_pixel_format ||
+            a.libcamera_buffer_count != b.libcamera_buffer_count ||
+            a.libcamera_exposure_min_us != b.libcamera_exposure_min_us || a.libcamera_gain_min != b.libcamera_gain_min ||
+            a.libcamera_gain_max != b.libcamera_gain_max || a.libcamera_stall_periods != b.libcamera_stall_periods ||
+            a.libcamera_retry_interval_ms != b.libcamera_retry_interval_ms,
+        "libcamera");
   check(a.capture_thread.priority != b.capture_thread.priority || a.capture_thread.cpu != b.capture_thread.cpu,
         "threads.capture");
   check(a.processing_thread.priority != b.processing_thread.priority ||

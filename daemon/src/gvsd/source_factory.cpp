@@ -3,11 +3,32 @@
 
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/libcamera_source.hpp"
 #include "gvs/drivers/simulator.hpp"
 #include "replay_source.hpp"
 #include "sim_source.hpp"
 
 namespace gvs::daemon {
+
+LibcameraSettings libcamera_settings(const DaemonConfig& config, const std::string& camera_id) {
+  LibcameraSettings s;
+  s.camera_id = camera_id;
+  s.camera = config.camera;
+  s.fps = config.libcamera_fps;
+  if (!drivers::parse_camera_pixel_format(config.libcamera_pixel_format, s.pixel_format)) {
+    throw std::runtime_error(config.origin + ": [libcamera] pixel_format '" + config.libcamera_pixel_format +
+                             "' is not R8 or YUV420");
+  }
+  s.buffer_count = config.libcamera_buffer_count;
+  s.exposure_initial_us = config.exposure_initial_us;
+  s.exposure_min_us = config.libcamera_exposure_min_us;
+  s.exposure_max_us = config.exposure_max_us;
+  s.gain_min = config.libcamera_gain_min;
+  s.gain_max = config.libcamera_gain_max;
+  s.stall_periods = config.libcamera_stall_periods;
+  s.retry_interval_ms = config.libcamera_retry_interval_ms;
+  return s;
+}
 
 std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config) {
   const std::string& uri = config.source_uri;
@@ -35,9 +56,11 @@ std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config) {
     return std::make_unique<ReplaySource>(rest, config.replay_preload_limit_mb);
   }
   if (scheme == "libcamera") {
-    throw std::runtime_error("source '" + uri +
-                             "': the libcamera source is not implemented yet (a later issue); "
-                             "use sim:SCENARIO or replay:DIR");
+    try {
+      return std::make_unique<LibcameraSource>(drivers::make_libcamera_device(), libcamera_settings(config, rest));
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error("source '" + uri + "': " + e.what());
+    }
   }
   throw std::runtime_error("source '" + uri + "': unknown kind; use sim:SCENARIO, replay:DIR or libcamera[:ID]");
 }

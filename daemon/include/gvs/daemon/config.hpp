@@ -59,6 +59,16 @@ struct DaemonConfig {
   double exposure_max_us = 3000.0;     ///< longest continuous exposure
   double exposure_min_pulse_us = 2.0;  ///< shortest LED pulse
 
+  // [libcamera] (source libcamera[:ID]; restart only)
+  double libcamera_fps = 60.0;
+  std::string libcamera_pixel_format = "YUV420";  ///< YUV420 (through the ISP) | R8 (8-bit mono raw)
+  int libcamera_buffer_count = 4;
+  double libcamera_exposure_min_us = 10.0;
+  double libcamera_gain_min = 1.0;
+  double libcamera_gain_max = 8.0;
+  double libcamera_stall_periods = 3.0;
+  double libcamera_retry_interval_ms = 500.0;
+
   // [threads]
   ThreadConfig capture_thread{80, -1};
   ThreadConfig processing_thread{70, -1};

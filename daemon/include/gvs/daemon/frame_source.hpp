@@ -1,4 +1,4 @@
-// Where frames come from: `sim:SCENARIO`, `replay:DIR`, later `libcamera[:ID]`.
+// Where frames come from: `sim:SCENARIO`, `replay:DIR`, `libcamera[:ID]`.
 #pragma once
 
 #include <atomic>
@@ -43,11 +43,14 @@ class FrameSource {
   /// without exposure control ignore it.
   virtual void set_exposure(const dsp::ExposurePlan& plan) noexcept = 0;
   [[nodiscard]] virtual bool controls_exposure() const = 0;
+  /// Main thread: the source's own counters for the health line ("" when
+  /// it has none).
+  [[nodiscard]] virtual std::string health_text() const { return {}; }
 };
 
 /// Builds the source named by `config.source_uri`. Throws std::runtime_error
-/// (unknown scheme, missing dataset, unknown scenario, libcamera not yet
-/// supported) with a message saying what to do.
+/// (unknown scheme, missing dataset, unknown scenario, no camera) with a
+/// message saying what to do.
 std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config);
 
 }  // namespace gvs::daemon

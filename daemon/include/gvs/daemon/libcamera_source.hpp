@@ -1,0 +1,145 @@
+// `libcamera[:ID]` frame source: a camera behind the CameraDevice seam
+// (gvs/drivers/camera_device.hpp), libcamera 0.0.3 on the car, a fake in
+// the tests. Completions arrive on the camera library's thread, which only
+// copies the frame into a preallocated lock-free hand-off and re-queues the
+// request; the capture thread's next() takes frames from the hand-off. A
+// supervisor thread (not real-time) re-opens the camera on a backoff when it
+// disappears or stops delivering.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/spsc_ring.hpp"
+#include "gvs/daemon/wakeup.hpp"
+#include "gvs/drivers/camera_device.hpp"
+
+namespace gvs::daemon {
+
+/// The source's settings ([camera], [exposure] and [libcamera] of gvsd.toml).
+struct LibcameraSettings {
+  std::string camera_id;  ///< empty: the first camera the library lists
+  dsp::CameraGeometry camera;
+  double fps = 60.0;
+  drivers::CameraPixelFormat pixel_format = drivers::CameraPixelFormat::yuv420;
+  int buffer_count = 4;
+  double exposure_initial_us = 3000.0;
+  double exposure_min_us = 10.0;    ///< shortest ExposureTime sent
+  double exposure_max_us = 3000.0;  ///< longest ExposureTime sent (also capped by the frame period)
+  double gain_min = 1.0;            ///< AnalogueGain at exposure_max_us
+  double gain_max = 8.0;            ///< AnalogueGain never above this
+  double stall_periods = 3.0;       ///< next() reports an error after this many periods without a frame
+  double retry_interval_ms = 500.0; ///< re-open backoff; also how long a silent camera may stall before a restart
+};
+
+struct DaemonConfig;
+/// The settings from gvsd's configuration; `camera_id` from the source URI.
+LibcameraSettings libcamera_settings(const DaemonConfig& config, const std::string& camera_id);
+
+/// Picks the camera: `wanted` empty = the first of `ids`. Throws
+/// std::runtime_error naming the cameras present and what to do.
+std::string choose_camera(const std::vector<std::string>& ids, const std::string& wanted);
+
+/// Controls for an exposure plan: ExposureTime clamped to
+/// [exposure_min_us, min(exposure_max_us, 0.9 frame period)]; AnalogueGain
+/// makes up for the shorter exposure (gain_min * exposure_max_us / exposure,
+/// the image brightness stays put) within [gain_min, gain_max];
+/// FrameDurationLimits fixed at 1/fps.
+drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s);
+
+/// The source's counters (each written by one thread).
+struct CameraHealth {
+  std::uint64_t frames_delivered = 0;    ///< frames handed to the capture thread
+  std::uint64_t requests_cancelled = 0;  ///< Request::RequestCancelled
+  std::uint64_t requests_incomplete = 0; ///< buffer not FrameSuccess, or fewer bytes than a frame
+  std::uint64_t sequence_gaps = 0;       ///< frames the sensor counted that never arrived
+  std::uint64_t timestamps_backwards = 0;///< SensorTimestamp not after the previous one
+  std::uint64_t no_exposure_metadata = 0;///< completed without ExposureTime in the metadata
+  std::uint64_t handoff_full = 0;        ///< frames lost because the capture thread was behind
+  std::uint64_t requeue_failures = 0;
+  std::uint64_t disconnects = 0;         ///< camera gone (disconnected / cameraRemoved)
+  std::uint64_t frame_timeouts = 0;      ///< next() errors: no frame within stall_periods
+  std::uint64_t restarts = 0;            ///< successful re-opens after a fault
+  bool streaming = false;
+};
+
+class LibcameraSource final : public FrameSource, private drivers::CameraEvents {
+ public:
+  /// Chooses, opens, configures and starts the camera. Throws
+  /// std::runtime_error (no camera, unknown id, mode not available).
+  LibcameraSource(std::unique_ptr<drivers::CameraDevice> device, const LibcameraSettings& settings);
+  ~LibcameraSource() override;
+
+  [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] dsp::CameraGeometry geometry() const override { return settings_.camera; }
+  [[nodiscard]] double nominal_fps() const override { return settings_.fps; }
+  void prepare(FrameSlot& slot) override;
+  SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
+  void set_exposure(const dsp::ExposurePlan& plan) noexcept override;
+  [[nodiscard]] bool controls_exposure() const override { return true; }
+  [[nodiscard]] std::string health_text() const override;
+
+  [[nodiscard]] CameraHealth health() const noexcept;
+  [[nodiscard]] const std::string& camera_id() const noexcept { return camera_id_; }
+
+ private:
+  struct Handoff {
+    std::vector<std::uint8_t> pixels;  ///< width*height, allocated once
+    std::int64_t index = 0;
+    std::int64_t t_ns = 0;
+    double exposure_us = 0.0;
+    double analogue_gain = 0.0;
+    const char* defect = nullptr;
+  };
+
+  // camera library's thread
+  void request_completed(const drivers::CompletedRequest& done) noexcept override;
+  void camera_disconnected() noexcept override;
+  drivers::CameraControls current_controls() const noexcept;
+
+  void open_and_start();  // throws
+  void supervise() noexcept;
+
+  std::unique_ptr<drivers::CameraDevice> device_;
+  LibcameraSettings settings_;
+  std::string camera_id_;
+  std::int64_t period_ns_ = 0;
+  std::size_t frame_bytes_ = 0;
+
+  SpscRing<Handoff> handoff_;
+  Wakeup frame_ready_;
+  Wakeup supervisor_wake_;
+  std::atomic<std::uint64_t> controls_packed_{0};  ///< exposure_us (low 32) | gain float bits (high 32)
+
+  // producer (camera thread) state
+  bool new_stream_ = true;
+  std::int64_t index_base_ = 0;
+  std::int64_t last_index_ = -1;
+  std::uint32_t last_sequence_ = 0;
+  std::int64_t last_t_ns_ = -1;
+
+  // capture thread state
+  std::int64_t last_frame_ns_ = -1;
+
+  std::atomic<bool> streaming_{false};
+  std::atomic<std::int64_t> stream_started_ns_{0};  ///< monotonic time of the last start (supervisor)
+  std::atomic<bool> restart_wanted_{false};
+  std::atomic<bool> quit_{false};
+  mutable std::mutex error_mutex_;  ///< supervisor and main thread only
+  std::string last_error_;
+
+  struct Counters {
+    std::atomic<std::uint64_t> frames_delivered{0}, requests_cancelled{0}, requests_incomplete{0},
+        sequence_gaps{0}, timestamps_backwards{0}, no_exposure_metadata{0}, handoff_full{0}, requeue_failures{0},
+        disconnects{0}, frame_timeouts{0}, restarts{0};
+  } counters_;
+  std::thread supervisor_;
+};
+
+}  // namespace gvs::daemon

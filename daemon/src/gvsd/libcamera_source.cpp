@@ -1,0 +1,280 @@
+// `libcamera[:ID]`: see gvs/daemon/libcamera_source.hpp for the threads.
+#include "gvs/daemon/libcamera_source.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+#include "gvs/daemon/clock.hpp"
+#include "gvs/daemon/health_counters.hpp"
+
+namespace gvs::daemon {
+
+namespace {
+
+std::uint64_t pack(const drivers::CameraControls& c) {
+  return static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.exposure_us)) |
+         (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(c.analogue_gain)) << 32U);
+}
+
+}  // namespace
+
+std::string choose_camera(const std::vector<std::string>& ids, const std::string& wanted) {
+  if (ids.empty()) {
+    throw std::runtime_error(
+        "libcamera: no camera found. Check the camera's cable and that its kernel driver is loaded "
+        "(ls /dev/video* /dev/media*, dmesg), that this user may open them (group video), or run "
+        "without a camera with [source] uri = \"sim:sine\" or \"replay:DIR\"");
+  }
+  if (wanted.empty()) return ids.front();
+  if (std::find(ids.begin(), ids.end(), wanted) != ids.end()) return wanted;
+  std::string present;
+  for (const auto& id : ids) present += (present.empty() ? "'" : ", '") + id + "'";
+  throw std::runtime_error("libcamera: camera '" + wanted + "' not found; cameras present: " + present +
+                           ". Set [source] uri = \"libcamera:<one of them>\", or \"libcamera\" for the first");
+}
+
+drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s) {
+  const double period_us = 1e6 / s.fps;
+  const double longest_us = std::max(s.exposure_min_us, std::min(s.exposure_max_us, 0.9 * period_us));
+  const double exposure_us = std::clamp(plan.exposure_us, s.exposure_min_us, longest_us);
+  const double gain = std::clamp(s.gain_min * s.exposure_max_us / exposure_us, s.gain_min, s.gain_max);
+  drivers::CameraControls c;
+  c.exposure_us = static_cast<std::int32_t>(std::lround(exposure_us));
+  c.analogue_gain = static_cast<float>(gain);
+  c.frame_duration_us = std::llround(period_us);
+  return c;
+}
+
+LibcameraSource::LibcameraSource(std::unique_ptr<drivers::CameraDevice> device, const LibcameraSettings& settings)
+    : device_(std::move(device)),
+      settings_(settings),
+      handoff_(std::vector<Handoff>(static_cast<std::size_t>(std::max(2, settings.buffer_count)))) {
+  period_ns_ = static_cast<std::int64_t>(1e9 / settings_.fps);
+  frame_bytes_ = static_cast<std::size_t>(settings_.camera.width_px) * static_cast<std::size_t>(settings_.camera.height_px);
+  for (Handoff& h : handoff_.slots_for_setup()) h.pixels.assign(frame_bytes_, 0);
+  dsp::ExposurePlan initial;
+  initial.exposure_us = settings_.exposure_initial_us;
+  controls_packed_.store(pack(camera_controls_for(initial, settings_)));
+  camera_id_ = choose_camera(device_->list_cameras(), settings_.camera_id);
+  open_and_start();
+  supervisor_ = std::thread([this] { supervise(); });
+}
+
+LibcameraSource::~LibcameraSource() {
+  quit_.store(true);
+  supervisor_wake_.post();
+  if (supervisor_.joinable()) supervisor_.join();
+  device_->stop();
+  device_->close();
+}
+
+void LibcameraSource::open_and_start() {
+  device_->open(camera_id_);
+  drivers::CameraStreamRequest want;
+  want.width_px = settings_.camera.width_px;
+  want.height_px = settings_.camera.height_px;
+  want.pixel_format = settings_.pixel_format;
+  want.buffer_count = settings_.buffer_count;
+  const drivers::CameraStreamInfo got = device_->configure(want);
+  if (got.width_px != want.width_px || got.height_px != want.height_px ||
+      got.stride_bytes < static_cast<std::size_t>(want.width_px)) {
+    device_->close();
+    throw std::runtime_error("libcamera: camera '" + camera_id_ + "' configured " + std::to_string(got.width_px) +
+                             "x" + std::to_string(got.height_px) + " (stride " + std::to_string(got.stride_bytes) +
+                             "), not the " + std::to_string(want.width_px) + "x" + std::to_string(want.height_px) +
+                             " of [camera] width_px/height_px");
+  }
+  new_stream_ = true;  // the camera thread is not running yet: start() happens-before its callbacks
+  device_->start(current_controls(), *this);
+  stream_started_ns_.store(mono_now_ns());
+  streaming_.store(true);
+}
+
+std::string LibcameraSource::describe() const {
+  std::ostringstream s;
+  s << "libcamera:" << camera_id_ << " (" << device_->describe() << ", " << settings_.camera.width_px << 'x'
+    << settings_.camera.height_px << ' ' << drivers::camera_pixel_format_name(settings_.pixel_format) << ", "
+    << settings_.fps << " fps, manual exposure)";
+  return s.str();
+}
+
+void LibcameraSource::prepare(FrameSlot& slot) {
+  slot.view.gray.create(settings_.camera.height_px, settings_.camera.width_px, CV_8UC1);
+  slot.view.gray.setTo(0);
+}
+
+drivers::CameraControls LibcameraSource::current_controls() const noexcept {
+  const std::uint64_t p = controls_packed_.load(std::memory_order_acquire);
+  drivers::CameraControls c;
+  c.exposure_us = static_cast<std::int32_t>(static_cast<std::uint32_t>(p & 0xFFFFFFFFU));
+  c.analogue_gain = std::bit_cast<float>(static_cast<std::uint32_t>(p >> 32U));
+  c.frame_duration_us = std::llround(1e6 / settings_.fps);
+  return c;
+}
+
+void LibcameraSource::set_exposure(const dsp::ExposurePlan& plan) noexcept {
+  controls_packed_.store(pack(camera_controls_for(plan, settings_)), std::memory_order_release);
+}
+
+// ---- camera library's thread: copy, hand over, re-queue; nothing else ----
+
+void LibcameraSource::request_completed(const drivers::CompletedRequest& done) noexcept {
+  if (done.cancelled) {
+    bump(counters_.requests_cancelled);
+    return;  // the camera is stopping: the request is not queued again
+  }
+  const auto width = static_cast<std::size_t>(settings_.camera.width_px);
+  const auto height = static_cast<std::size_t>(settings_.camera.height_px);
+  const bool complete = done.buffer_ok && done.luma != nullptr && done.stride_bytes >= width &&
+                        done.bytes_used >= done.stride_bytes * (height - 1) + width;
+  if (new_stream_) {
+    index_base_ = last_index_ + 1 - static_cast<std::int64_t>(done.sequence);
+    last_sequence_ = done.sequence;
+    new_stream_ = false;
+  } else if (done.sequence > last_sequence_ + 1) {
+    bump(counters_.sequence_gaps, done.sequence - last_sequence_ - 1);
+  }
+  if (done.sequence > last_sequence_ || last_index_ < 0) last_sequence_ = done.sequence;
+
+  if (!complete) {
+    bump(counters_.requests_incomplete);
+  } else if (Handoff* h = handoff_.try_claim(); h == nullptr) {
+    bump(counters_.handoff_full);
+  } else {
+    for (std::size_t row = 0; row < height; ++row) {
+      std::memcpy(h->pixels.data() + row * width, done.luma + row * done.stride_bytes, width);
+    }
+    h->index = index_base_ + static_cast<std::int64_t>(done.sequence);
+    last_index_ = std::max(last_index_, h->index);
+    h->t_ns = done.sensor_timestamp_ns;
+    h->exposure_us = done.exposure_us;
+    h->analogue_gain = done.analogue_gain;
+    h->defect = nullptr;
+    if (done.exposure_us <= 0) {
+      bump(counters_.no_exposure_metadata);
+      h->defect = "no-exposure-metadata";  // never guess the exposure the speed is measured with
+    }
+    if (done.sensor_timestamp_ns <= last_t_ns_ || done.sensor_timestamp_ns < 0) {
+      bump(counters_.timestamps_backwards);
+      h->defect = "time-backwards";
+    } else {
+      last_t_ns_ = done.sensor_timestamp_ns;
+    }
+    handoff_.publish();
+    bump(counters_.frames_delivered);
+    frame_ready_.post();
+  }
+  if (!device_->queue(done.buffer_index, current_controls())) bump(counters_.requeue_failures);
+}
+
+void LibcameraSource::camera_disconnected() noexcept {
+  // libcamera signals both Camera::disconnected and CameraManager::cameraRemoved: count the loss once.
+  if (streaming_.exchange(false)) bump(counters_.disconnects);
+  restart_wanted_.store(true);
+  supervisor_wake_.post();
+  frame_ready_.post();
+}
+
+// ---- capture thread ----
+
+SourceStatus LibcameraSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept {
+  const std::int64_t start_ns = mono_now_ns();
+  if (last_frame_ns_ < 0) last_frame_ns_ = start_ns;
+  const auto deadline_ns = start_ns + static_cast<std::int64_t>(settings_.stall_periods * static_cast<double>(period_ns_));
+  for (;;) {
+    if (stop.load(std::memory_order_relaxed)) return SourceStatus::stopped;
+    if (Handoff* h = handoff_.take_oldest(); h != nullptr) {
+      std::memcpy(slot.view.gray.data, h->pixels.data(), frame_bytes_);
+      slot.view.index = h->index;
+      slot.view.t_ns = h->t_ns;
+      slot.view.exposure = dsp::ExposurePlan{};  // continuous light for the applied time (no strobe sync)
+      slot.view.exposure.exposure_us = h->exposure_us;
+      slot.defect = h->defect;
+      slot.truth = FrameTruth{};
+      handoff_.release();
+      last_frame_ns_ = mono_now_ns();
+      return SourceStatus::frame;
+    }
+    const std::int64_t now = mono_now_ns();
+    if (now >= deadline_ns) {
+      bump(counters_.frame_timeouts);
+      const auto restart_ns = static_cast<std::int64_t>(settings_.retry_interval_ms * 1e6);
+      const std::int64_t since_ns = std::max(last_frame_ns_, stream_started_ns_.load());
+      if (streaming_.load() && now - since_ns >= restart_ns && !restart_wanted_.load()) {
+        restart_wanted_.store(true);  // silent but not gone: the supervisor restarts it
+        supervisor_wake_.post();
+        last_frame_ns_ = now;
+      }
+      return SourceStatus::error;
+    }
+    frame_ready_.wait_for(std::min<std::int64_t>(deadline_ns - now, 20 * kNsPerMs));
+  }
+}
+
+// ---- supervisor thread (not real-time): re-open on a backoff ----
+
+void LibcameraSource::supervise() noexcept {
+  const auto retry_ns = static_cast<std::int64_t>(settings_.retry_interval_ms * 1e6);
+  while (!quit_.load()) {
+    supervisor_wake_.wait_for(100 * kNsPerMs);
+    if (quit_.load() || !restart_wanted_.load()) continue;
+    streaming_.store(false);
+    device_->stop();
+    device_->close();
+    while (!quit_.load()) {
+      restart_wanted_.store(false);
+      try {
+        open_and_start();
+        bump(counters_.restarts);
+        const std::lock_guard<std::mutex> lock(error_mutex_);
+        last_error_.clear();
+        break;
+      } catch (const std::exception& e) {
+        {
+          const std::lock_guard<std::mutex> lock(error_mutex_);
+          last_error_ = e.what();
+        }
+        device_->close();
+        supervisor_wake_.wait_for(retry_ns);
+      }
+    }
+  }
+}
+
+CameraHealth LibcameraSource::health() const noexcept {
+  constexpr auto r = std::memory_order_relaxed;
+  CameraHealth h;
+  h.frames_delivered = counters_.frames_delivered.load(r);
+  h.requests_cancelled = counters_.requests_cancelled.load(r);
+  h.requests_incomplete = counters_.requests_incomplete.load(r);
+  h.sequence_gaps = counters_.sequence_gaps.load(r);
+  h.timestamps_backwards = counters_.timestamps_backwards.load(r);
+  h.no_exposure_metadata = counters_.no_exposure_metadata.load(r);
+  h.handoff_full = counters_.handoff_full.load(r);
+  h.requeue_failures = counters_.requeue_failures.load(r);
+  h.disconnects = counters_.disconnects.load(r);
+  h.frame_timeouts = counters_.frame_timeouts.load(r);
+  h.restarts = counters_.restarts.load(r);
+  h.streaming = streaming_.load(r);
+  return h;
+}
+
+std::string LibcameraSource::health_text() const {
+  const CameraHealth h = health();
+  std::ostringstream s;
+  s << "camera " << camera_id_ << (h.streaming ? " streaming" : " DOWN") << ": delivered " << h.frames_delivered
+    << ", cancelled " << h.requests_cancelled << ", incomplete " << h.requests_incomplete << ", sequence gaps "
+    << h.sequence_gaps << ", time backwards " << h.timestamps_backwards << ", no exposure metadata "
+    << h.no_exposure_metadata << ", hand-off full " << h.handoff_full << ", requeue failures "
+    << h.requeue_failures << ", timeouts " << h.frame_timeouts << ", disconnects " << h.disconnects
+    << ", restarts " << h.restarts;
+  const std::lock_guard<std::mutex> lock(error_mutex_);
+  if (!last_error_.empty()) s << ", last error: " << last_error_;
+  return s.str();
+}
+
+}  // namespace gvs::daemon

@@ -1,0 +1,285 @@
+// The libcamera source on the fake camera (tests/daemon/fake_camera_device.hpp):
+// camera choice, controls, metadata handling, counters, disappearance and
+// recovery; and its [libcamera] configuration.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "fake_camera_device.hpp"
+#include "gvs/daemon/clock.hpp"
+#include "gvs/daemon/config.hpp"
+#include "gvs/daemon/libcamera_source.hpp"
+
+namespace gvs::daemon {
+namespace {
+
+using testing::FakeCamera;
+using testing::FakeCameraDevice;
+
+LibcameraSettings small_settings() {
+  LibcameraSettings s;
+  s.camera = {64, 48, 0.1, 0.0};
+  s.fps = 50.0;
+  s.buffer_count = 3;
+  s.exposure_initial_us = 1000.0;
+  s.exposure_max_us = 3000.0;
+  s.retry_interval_ms = 300.0;  // long enough that a loaded 2-core machine does not look like a silent camera
+  return s;
+}
+
+struct Rig {
+  std::shared_ptr<FakeCamera> cam = std::make_shared<FakeCamera>();
+  std::unique_ptr<LibcameraSource> source;
+  FrameSlot slot;
+  std::atomic<bool> stop{false};
+
+  explicit Rig(const LibcameraSettings& s = small_settings()) {
+    source = std::make_unique<LibcameraSource>(std::make_unique<FakeCameraDevice>(cam), s);
+    source->prepare(slot);
+  }
+  /// The next frame (skipping errors) within `tries` calls.
+  bool frame(int tries = 20) {
+    for (int i = 0; i < tries; ++i) {
+      if (source->next(slot, stop) == SourceStatus::frame) return true;
+    }
+    return false;
+  }
+};
+
+TEST(LibcameraSource, ChoosesTheFirstCameraOrTheOneNamed) {
+  EXPECT_EQ(choose_camera({"a", "b"}, ""), "a");
+  EXPECT_EQ(choose_camera({"a", "b"}, "b"), "b");
+}
+
+TEST(LibcameraSource, UnknownCameraIdNamesTheCamerasPresent) {
+  try {
+    (void)choose_camera({"/base/cam0", "/base/cam1"}, "/base/cam7");
+    FAIL() << "an unknown id must be refused";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("'/base/cam7' not found"), std::string::npos) << m;
+    EXPECT_NE(m.find("'/base/cam0', '/base/cam1'"), std::string::npos) << m;
+    EXPECT_NE(m.find("libcamera:<one of them>"), std::string::npos) << m;
+  }
+}
+
+TEST(LibcameraSource, NoCameraSaysWhatToCheck) {
+  auto cam = std::make_shared<FakeCamera>();
+  cam->present = false;
+  try {
+    LibcameraSource s(std::make_unique<FakeCameraDevice>(cam), small_settings());
+    FAIL() << "no camera must stop start-up";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("no camera found"), std::string::npos) << m;
+    EXPECT_NE(m.find("/dev/video"), std::string::npos) << m;
+    EXPECT_NE(m.find("sim:sine"), std::string::npos) << m;
+  }
+}
+
+TEST(LibcameraSource, OpensTheCameraByIdWithTheConfiguredStream) {
+  LibcameraSettings s = small_settings();
+  s.camera_id = "/base/fake/imx296@1a";
+  s.pixel_format = drivers::CameraPixelFormat::r8;
+  Rig rig(s);
+  EXPECT_EQ(rig.source->camera_id(), s.camera_id);
+  EXPECT_EQ(rig.cam->opens.load(), 1);
+  EXPECT_EQ(rig.cam->last_request.width_px, 64);
+  EXPECT_EQ(rig.cam->last_request.height_px, 48);
+  EXPECT_EQ(rig.cam->last_request.pixel_format, drivers::CameraPixelFormat::r8);
+  EXPECT_EQ(rig.cam->last_request.buffer_count, 3);
+  EXPECT_NE(rig.source->describe().find("libcamera:/base/fake/imx296@1a"), std::string::npos);
+}
+
+TEST(LibcameraSource, ExposurePlanBecomesClampedManualControls) {
+  LibcameraSettings s = small_settings();
+  s.exposure_min_us = 20.0;
+  s.exposure_max_us = 3000.0;
+  s.gain_min = 1.0;
+  s.gain_max = 8.0;
+  dsp::ExposurePlan plan;
+  plan.exposure_us = 1500.0;
+  drivers::CameraControls c = camera_controls_for(plan, s);
+  EXPECT_EQ(c.exposure_us, 1500);
+  EXPECT_FLOAT_EQ(c.analogue_gain, 2.0F) << "gain makes up for half the exposure";
+  EXPECT_EQ(c.frame_duration_us, 20000) << "FrameDurationLimits from 50 fps";
+  plan.exposure_us = 5.0;
+  c = camera_controls_for(plan, s);
+  EXPECT_EQ(c.exposure_us, 20) << "never below exposure_min_us";
+  EXPECT_FLOAT_EQ(c.analogue_gain, 8.0F) << "never above gain_max";
+  plan.exposure_us = 9000.0;
+  c = camera_controls_for(plan, s);
+  EXPECT_EQ(c.exposure_us, 3000) << "never above exposure_max_us";
+  EXPECT_FLOAT_EQ(c.analogue_gain, 1.0F);
+  s.fps = 500.0;  // 2000 us period
+  c = camera_controls_for(plan, s);
+  EXPECT_EQ(c.exposure_us, 1800) << "never longer than 0.9 of the frame period";
+  EXPECT_EQ(c.frame_duration_us, 2000);
+}
+
+TEST(LibcameraSource, DeliversPixelsTimestampAndTheExposureActuallyApplied) {
+  Rig rig;
+  dsp::ExposurePlan plan;
+  plan.exposure_us = 1007.0;  // the fake sensor applies whole 14 us lines: 994 us
+  rig.source->set_exposure(plan);
+  // Requests queued before the change still carry the old controls.
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(rig.frame());
+  const std::int64_t now = mono_now_ns();
+  EXPECT_DOUBLE_EQ(rig.slot.view.exposure.exposure_us, 994.0) << "metadata ExposureTime, not the 1007 asked for";
+  EXPECT_EQ(rig.slot.view.exposure.pulse_count, 0u);
+  EXPECT_EQ(rig.cam->seen_controls().exposure_us, 1007);
+  EXPECT_EQ(rig.cam->seen_controls().frame_duration_us, 20000);
+  EXPECT_GT(rig.slot.view.t_ns, now - 500 * kNsPerMs) << "SensorTimestamp on the monotonic clock";
+  EXPECT_LE(rig.slot.view.t_ns, now);
+  EXPECT_EQ(rig.slot.defect, nullptr);
+  // Pixels copied row by row past the stride padding (0xEE never shows).
+  const auto seq = static_cast<int>(rig.slot.view.index);
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      ASSERT_EQ(rig.slot.view.gray.at<std::uint8_t>(y, x), (x + 3 * y + seq) & 0x7F) << x << "," << y;
+    }
+  }
+}
+
+TEST(LibcameraSource, ReusesOneRequestPerBuffer) {
+  Rig rig;
+  for (int i = 0; i < 12; ++i) ASSERT_TRUE(rig.frame());
+  const auto buffers = rig.cam->seen_buffers();
+  EXPECT_EQ(buffers.size(), 3u) << "only the three buffers' requests are ever queued";
+  for (const auto& [index, count] : buffers) EXPECT_GE(count, 3) << "buffer " << index << " re-queued";
+  EXPECT_EQ(rig.source->health().requeue_failures, 0u);
+}
+
+TEST(LibcameraSource, CountsSequenceGapsAndKeepsTheIndexGap) {
+  Rig rig;
+  ASSERT_TRUE(rig.frame());
+  ASSERT_TRUE(rig.frame());
+  const std::int64_t before = rig.slot.view.index;
+  rig.cam->skip_sequences = 3;
+  ASSERT_TRUE(rig.frame());
+  // Frames may already wait in the hand-off: read until the gap shows.
+  std::int64_t prev = before;
+  bool gap_seen = false;
+  for (int i = 0; i < 5 && !gap_seen; ++i) {
+    if (rig.slot.view.index - prev == 4) gap_seen = true;
+    prev = rig.slot.view.index;
+    if (!gap_seen) {
+      ASSERT_TRUE(rig.frame());
+    }
+  }
+  EXPECT_TRUE(gap_seen) << "3 frames missing: the index jumps by 4";
+  EXPECT_EQ(rig.source->health().sequence_gaps, 3u);
+}
+
+TEST(LibcameraSource, BackwardsTimestampIsCountedAndTheFrameGetsNoEstimate) {
+  Rig rig;
+  ASSERT_TRUE(rig.frame());
+  rig.cam->timestamp_backwards = true;
+  bool seen = false;
+  for (int i = 0; i < 8 && !seen; ++i) {
+    ASSERT_TRUE(rig.frame());
+    seen = rig.slot.defect != nullptr && std::string(rig.slot.defect) == "time-backwards";
+  }
+  EXPECT_TRUE(seen);
+  EXPECT_EQ(rig.source->health().timestamps_backwards, 1u);
+  ASSERT_TRUE(rig.frame());
+  EXPECT_EQ(rig.slot.defect, nullptr) << "the next frame is good again";
+}
+
+TEST(LibcameraSource, MissingExposureMetadataIsNeverGuessed) {
+  Rig rig;
+  ASSERT_TRUE(rig.frame());
+  rig.cam->omit_exposure = true;
+  bool seen = false;
+  for (int i = 0; i < 8 && !seen; ++i) {
+    ASSERT_TRUE(rig.frame());
+    seen = rig.slot.defect != nullptr && std::string(rig.slot.defect) == "no-exposure-metadata";
+  }
+  EXPECT_TRUE(seen);
+  EXPECT_EQ(rig.source->health().no_exposure_metadata, 1u);
+}
+
+TEST(LibcameraSource, IncompleteBufferIsCountedAndNotDelivered) {
+  Rig rig;
+  ASSERT_TRUE(rig.frame());
+  rig.cam->buffer_error = true;
+  for (int i = 0; i < 4; ++i) ASSERT_TRUE(rig.frame());
+  EXPECT_EQ(rig.source->health().requests_incomplete, 1u);
+  EXPECT_EQ(rig.source->health().requeue_failures, 0u) << "its request is reused all the same";
+}
+
+TEST(LibcameraSource, UnpluggedCameraErrorsWithinStallPeriodsAndRecoversWhenBack) {
+  Rig rig;
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(rig.frame());
+  rig.cam->present = false;
+  // Frames already in the hand-off may still come; then errors.
+  const std::int64_t unplugged = mono_now_ns();
+  SourceStatus st = SourceStatus::frame;
+  std::int64_t error_at = 0;
+  for (int i = 0; i < 10 && st != SourceStatus::error; ++i) {
+    st = rig.source->next(rig.slot, rig.stop);
+    error_at = mono_now_ns();
+  }
+  ASSERT_EQ(st, SourceStatus::error);
+  // 3 periods of 20 ms after the last frame + the frames queued at the unplug + 100 ms slack for a busy machine.
+  EXPECT_LT(error_at - unplugged, (3 + 3) * 20 * kNsPerMs + 100 * kNsPerMs);
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  CameraHealth h = rig.source->health();
+  EXPECT_EQ(h.disconnects, 1u);
+  EXPECT_FALSE(h.streaming);
+  EXPECT_NE(rig.source->health_text().find("DOWN"), std::string::npos);
+  EXPECT_NE(rig.source->health_text().find("not present"), std::string::npos) << "the retry's error is shown";
+  EXPECT_EQ(rig.source->next(rig.slot, rig.stop), SourceStatus::error) << "no frames while it is gone";
+
+  rig.cam->present = true;
+  ASSERT_TRUE(rig.frame(100)) << "the source re-opens the camera when it is back";
+  h = rig.source->health();
+  EXPECT_GE(h.restarts, 1u);
+  EXPECT_LE(h.restarts, 3u) << "no restart loop once the camera is back";
+  EXPECT_TRUE(h.streaming);
+  EXPECT_GE(rig.cam->opens.load(), 2);
+  const std::int64_t first_after = rig.slot.view.index;
+  ASSERT_TRUE(rig.frame());
+  EXPECT_GT(rig.slot.view.index, first_after) << "the index keeps rising across the restart";
+}
+
+TEST(LibcameraSource, SilentCameraIsRestarted) {
+  Rig rig;
+  ASSERT_TRUE(rig.frame());
+  rig.cam->stalled = true;
+  int errors = 0;
+  const std::int64_t until = mono_now_ns() + 900 * kNsPerMs;
+  while (mono_now_ns() < until) errors += rig.source->next(rig.slot, rig.stop) == SourceStatus::error ? 1 : 0;
+  EXPECT_GE(errors, 3);
+  EXPECT_GE(rig.cam->starts.load(), 2) << "a camera silent for retry_interval_ms is stopped and started again";
+  // Stopping completed the requests still queued in the silent camera as cancelled.
+  EXPECT_GE(rig.source->health().requests_cancelled, 3u);
+  rig.cam->stalled = false;
+  ASSERT_TRUE(rig.frame(100));
+  EXPECT_GE(rig.source->health().frame_timeouts, 3u);
+}
+
+TEST(LibcameraConfig, ReadsTheLibcameraSectionAndChecksIt) {
+  const DaemonConfig c = parse_config(
+      "[libcamera]\nfps = 120\npixel_format = \"R8\"\nbuffer_count = 6\nexposure_min_us = 20\n"
+      "gain_min = 1.5\ngain_max = 4\nstall_periods = 2\nretry_interval_ms = 250\n",
+      "t.toml");
+  EXPECT_DOUBLE_EQ(c.libcamera_fps, 120.0);
+  EXPECT_EQ(c.libcamera_pixel_format, "R8");
+  EXPECT_EQ(c.libcamera_buffer_count, 6);
+  const LibcameraSettings s = libcamera_settings(c, "cam1");
+  EXPECT_EQ(s.camera_id, "cam1");
+  EXPECT_EQ(s.pixel_format, drivers::CameraPixelFormat::r8);
+  EXPECT_EQ(libcamera_settings(DaemonConfig{}, "").pixel_format, drivers::CameraPixelFormat::yuv420) << "default";
+  EXPECT_DOUBLE_EQ(s.gain_min, 1.5);
+  EXPECT_DOUBLE_EQ(s.exposure_max_us, c.exposure_max_us);
+  EXPECT_DOUBLE_EQ(s.retry_interval_ms, 250.0);
+  EXPECT_THROW((void)parse_config("[libcamera]\npixel_format = \"RGB888\"\n", "t.toml"), ConfigError);
+  EXPECT_THROW((void)parse_config("[libcamera]\ngain_min = 4\ngain_max = 2\n", "t.toml"), ConfigError);
+  EXPECT_THROW((void)parse_config("[libcamera]\nexposure = 2\n", "t.toml"), ConfigError);
+}
+
+}  // namespace
+}  // namespace gvs::daemon
