@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gvs/drivers/strobe.hpp"
 #include "gvs/dsp/frame.hpp"
 
 namespace gvs::daemon {
@@ -58,6 +59,9 @@ struct DaemonConfig {
   double exposure_initial_us = 3000.0;
   double exposure_max_us = 3000.0;     ///< longest continuous exposure
   double exposure_min_pulse_us = 2.0;  ///< shortest LED pulse
+
+  // [light] LED ring and trigger (drivers/strobe.hpp); restart only
+  drivers::StrobeConfig light;
 
   // [threads]
   ThreadConfig capture_thread{80, -1};

@@ -39,6 +39,8 @@ struct StrobeConfig {
   std::string pwm_sysfs_root = "/sys/class/pwm";
   int pwm_chip = 0;
   int pwm_channel = 0;
+
+  bool operator==(const StrobeConfig&) const = default;
 };
 
 enum class StrobeOutput : std::uint8_t { trigger, led };
