@@ -97,13 +97,21 @@ FireReport GpioStrobe::fire(std::int64_t start_ns) noexcept {
   FireReport report;
   for (std::size_t i = 0; i < schedule_.count; ++i) {
     StrobeEdge& e = schedule_.edges[i];
+    gpiod_line* line = e.output == StrobeOutput::led ? led_ : trigger_;
     // Sleep to shortly before the edge, then spin: the wake-up's jitter
     // lands in the spin instead of on the line.
-    if (e.target_ns - spin_ns_ > now_ns()) sleep_until_ns(e.target_ns - spin_ns_);
+    if (e.target_ns - spin_ns_ > now_ns()) {
+      sleep_until_ns(e.target_ns - spin_ns_);
+      if (config_.warm_up_write) {
+        // Each line gets its present level again: no edge, but the path is warm.
+        if (gpiod_line_set_value(led_, led_on_ ? 1 : 0) != 0) report.error = true;
+        if (trigger_ != nullptr && gpiod_line_set_value(trigger_, trigger_on_ ? 1 : 0) != 0) report.error = true;
+      }
+    }
     while (now_ns() < e.target_ns) {
     }
-    gpiod_line* line = e.output == StrobeOutput::led ? led_ : trigger_;
     if (gpiod_line_set_value(line, e.on ? 1 : 0) != 0) report.error = true;
+    (e.output == StrobeOutput::led ? led_on_ : trigger_on_) = e.on;
     e.achieved_ns = now_ns();
     const std::int64_t late_ns = e.achieved_ns - e.target_ns;
     if (late_ns > late_limit_ns_) ++report.late_edges;

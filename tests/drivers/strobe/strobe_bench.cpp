@@ -50,7 +50,7 @@ void print(const char* what, const std::vector<double>& v) {
   std::fprintf(stderr,
                "gvs_strobe_bench: %s\nusage: gvs_strobe_bench --chip CHIP --led-line N [--trigger-line N] "
                "[--plan single|double|continuous] [--frames N] [--fps F] [--pulse-us U] [--separation-us U] "
-               "[--exposure-us U] [--spin-us U] [--active-low] [--priority P]\n",
+               "[--exposure-us U] [--spin-us U] [--active-low] [--priority P] [--dump-frames N] [--no-warm-up]\n",
                why);
   std::exit(2);
 }
@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
   c.driver = "gpio";
   c.consumer = "gvs_strobe_bench";
   std::string plan_name = "double";
-  int frames = 300, priority = 0;
+  int frames = 300, priority = 0, dump_frames = 0;
   double fps = 60.0, pulse_us = 20.0, separation_us = 500.0, exposure_us = 3000.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -81,7 +81,9 @@ int main(int argc, char** argv) {
     else if (a == "--exposure-us") exposure_us = std::atof(value());
     else if (a == "--spin-us") c.spin_us = std::atof(value());
     else if (a == "--active-low") c.active_low = true;
+    else if (a == "--no-warm-up") c.warm_up_write = false;
     else if (a == "--priority") priority = std::atoi(value());
+    else if (a == "--dump-frames") dump_frames = std::atoi(value());
     else usage(("unknown argument " + a).c_str());
   }
   if (frames < 1 || fps <= 0.0) usage("--frames and --fps must be positive");
@@ -113,11 +115,18 @@ int main(int argc, char** argv) {
   gvs::drivers::GpioStrobe strobe(c);  // throws with the chip/line named
   strobe.arm(plan, 1e6 / fps);
   std::printf("strobe-bench: %s, plan %s (%zu pulse(s) of %.0f us%s, exposure %.0f us), %d frames at %.0f fps, "
-              "spin %.0f us, priority %d\n",
+              "spin %.0f us%s, priority %d\n",
               strobe.describe().c_str(), plan_name.c_str(), plan.pulse_count, plan.pulse_count ? pulse_us : exposure_us,
               plan.pulse_count == 2 ? (", " + std::to_string(static_cast<int>(separation_us)) + " us apart").c_str() : "",
-              plan.exposure_us, frames, fps, c.spin_us, priority);
+              plan.exposure_us, frames, fps, c.spin_us, c.warm_up_write ? " with a warm-up write" : "", priority);
 
+  {
+    // The spin's resolution: one CLOCK_MONOTONIC read.
+    const std::int64_t t0 = now_ns();
+    std::int64_t t = t0;
+    for (int i = 0; i < 10000; ++i) t = now_ns();
+    std::printf("clock_gettime(CLOCK_MONOTONIC): %.2f us per call\n", static_cast<double>(t - t0) / 1e4 / 1e3);
+  }
   std::vector<double> late_trigger, late_led_on, late_led_off, duration_err, separation_err;
   std::size_t edges = 0, late_edges = 0, early = 0, errors = 0;
   const auto period_ns = static_cast<std::int64_t>(1e9 / fps);
@@ -129,6 +138,15 @@ int main(int argc, char** argv) {
     errors += r.error ? 1 : 0;
     std::int64_t on_ns[gvs::dsp::ExposurePlan::kMaxPulses]{};
     std::size_t pulse = 0;
+    if (f < dump_frames) {
+      std::printf("frame %d edges (due after the frame start / lateness, us):", f);
+      for (const gvs::drivers::StrobeEdge& e : strobe.last_edges()) {
+        std::printf(" %s%s %.0f/%.1f", e.output == gvs::drivers::StrobeOutput::led ? "led" : "trig", e.on ? "+" : "-",
+                    static_cast<double>(e.target_ns - start_ns) / 1e3,
+                    static_cast<double>(e.achieved_ns - e.target_ns) / 1e3);
+      }
+      std::printf("\n");
+    }
     for (const gvs::drivers::StrobeEdge& e : strobe.last_edges()) {
       const double late_us = static_cast<double>(e.achieved_ns - e.target_ns) / 1e3;
       if (e.achieved_ns < e.target_ns) ++early;

@@ -28,6 +28,8 @@ class GpioStrobe final : public StrobeDriver {
   gpiod_chip* chip_ = nullptr;
   gpiod_line* led_ = nullptr;
   gpiod_line* trigger_ = nullptr;
+  bool led_on_ = false;      ///< level last set (logical)
+  bool trigger_on_ = false;
   dsp::ExposurePlan plan_{};
   EdgeSchedule schedule_{};
   std::int64_t spin_ns_ = 0;

@@ -33,8 +33,12 @@ struct StrobeConfig {
   bool active_low = false;              ///< both lines are driven low when on
   std::string consumer = "gvsd";        ///< shown by gpioinfo as the lines' user
   double trigger_pulse_us = 10.0;       ///< width of the trigger pulse
-  double spin_us = 50.0;                ///< busy-wait before each edge after the sleep
+  double spin_us = 500.0;               ///< busy-wait before each edge after the sleep (above the wake-up latency)
   double late_limit_us = 100.0;         ///< an edge later than this counts as late
+  /// After each sleep, write every line's present level once (no edge)
+  /// before spinning: the first set-value call after a sleep is several
+  /// times slower than the next (measured, docs/hardware.md). Not in gvsd.toml.
+  bool warm_up_write = true;
   // pwm
   std::string pwm_sysfs_root = "/sys/class/pwm";
   int pwm_chip = 0;
