@@ -7,7 +7,11 @@
 #include <gtest/gtest.h>
 #include <time.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdlib>
+#include <span>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -53,37 +57,86 @@ class GpioSim : public ::testing::Test {
     c.consumer = "gvs-strobe-test";
     return c;
   }
-  /// Fires `plan` once and samples both lines at `at_ms` after its start.
-  std::vector<std::pair<int, int>> fire_and_sample(gvs::drivers::GpioStrobe& strobe,
-                                                   const gvs::dsp::ExposurePlan& plan,
-                                                   const std::vector<double>& at_ms) {
+  struct Sample {
+    std::int64_t before_ns, after_ns;  ///< clock around the sysfs reads
+    int trigger, led;                  ///< physical levels
+  };
+
+  /// Fires `plan` once while a second thread reads both lines' levels from
+  /// gpio-sim's sysfs as fast as it can; returns the samples.
+  std::vector<Sample> fire_and_sample(gvs::drivers::GpioStrobe& strobe, const gvs::dsp::ExposurePlan& plan) {
     strobe.arm(plan, 1e6);
-    const std::int64_t start_ns = now_ns() + 50'000'000;
-    std::vector<std::pair<int, int>> seen(at_ms.size());
+    std::vector<Sample> samples;
+    samples.reserve(1'000'000);
+    std::atomic<bool> done{false};
     std::thread sampler([&] {
-      for (std::size_t i = 0; i < at_ms.size(); ++i) {
-        const std::int64_t t = start_ns + static_cast<std::int64_t>(at_ms[i] * 1e6);
-        timespec ts{static_cast<time_t>(t / 1'000'000'000), static_cast<long>(t % 1'000'000'000)};
-        clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
-        seen[i] = {level(kTriggerLine), level(kLedLine)};
+      while (!done.load() && samples.size() < samples.capacity()) {
+        Sample s{now_ns(), 0, level(kTriggerLine), level(kLedLine)};
+        s.after_ns = now_ns();
+        samples.push_back(s);
       }
     });
-    const gvs::drivers::FireReport r = strobe.fire(start_ns);
+    const gvs::drivers::FireReport r = strobe.fire(now_ns() + 100'000'000);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the level after the last edge too
+    done = true;
     sampler.join();
     EXPECT_FALSE(r.error);
-    return seen;
+    return samples;
+  }
+
+  /// Every sample that does not overlap an edge (between its due time and
+  /// the return of its set-value call, where the level may change) must show
+  /// the level the recorded edges give; every phase between two edges (and
+  /// after the last) must have such a sample. Returns the phases' levels.
+  std::vector<int> check_samples(const std::vector<Sample>& samples, std::span<const gvs::drivers::StrobeEdge> edges,
+                                 gvs::drivers::StrobeOutput output, bool active_low) {
+    std::vector<gvs::drivers::StrobeEdge> mine;
+    for (const auto& e : edges) {
+      if (e.output == output) mine.push_back(e);
+    }
+    const char* name = output == gvs::drivers::StrobeOutput::led ? "LED" : "trigger";
+    std::vector<int> phase_seen(mine.size() + 1, 0);
+    std::vector<int> phase_level(mine.size() + 1, -1);
+    for (std::size_t k = 0; k <= mine.size(); ++k) {
+      const bool on = k > 0 && mine[k - 1].on;
+      phase_level[k] = (on != active_low) ? 1 : 0;
+    }
+    std::size_t mismatches = 0;
+    for (const Sample& s : samples) {
+      // Phase k: after edge k-1 was done, before edge k was due.
+      std::size_t k = 0;
+      bool determinate = true;
+      for (const auto& e : mine) {
+        if (s.after_ns < e.target_ns) break;
+        if (s.before_ns <= e.achieved_ns) {
+          determinate = false;
+          break;
+        }
+        ++k;
+      }
+      if (!determinate) continue;
+      const int got = output == gvs::drivers::StrobeOutput::led ? s.led : s.trigger;
+      ++phase_seen[k];
+      if (got != phase_level[k] && ++mismatches <= 5) {
+        ADD_FAILURE() << name << " level " << got << " in phase " << k << ", want " << phase_level[k];
+      }
+    }
+    for (std::size_t k = 0; k < phase_seen.size(); ++k) {
+      EXPECT_GT(phase_seen[k], 0) << name << " phase " << k << " has no sample (sampler starved?)";
+    }
+    return phase_level;
   }
 
   std::string chip_, sysfs_;
 };
 
-/// Slow enough to sample under qemu TCG: a 100 ms trigger, pulses of 150 ms.
+/// Slow enough to sample under qemu TCG: pulses and gaps of 200 ms.
 gvs::dsp::ExposurePlan slow_double_pulse() {
   gvs::dsp::ExposurePlan p;
   p.pulse_count = 2;
-  p.pulses[0] = {0.0, 150'000.0};
-  p.pulses[1] = {300'000.0, 150'000.0};
-  p.exposure_us = 450'000.0;
+  p.pulses[0] = {0.0, 200'000.0};
+  p.pulses[1] = {400'000.0, 200'000.0};
+  p.exposure_us = 600'000.0;
   return p;
 }
 
@@ -117,44 +170,48 @@ TEST_F(GpioSim, RequestsBothLinesOffWithTheConsumerNameAndReleasesThem) {
   gpiod_chip_close(chip);
 }
 
-TEST_F(GpioSim, DoublePulseDrivesTheLinesAtThePlannedTimes) {
+TEST_F(GpioSim, DoublePulseDrivesTheLinesAtTheRecordedTimes) {
   auto c = config(false);
-  c.trigger_pulse_us = 100'000.0;
+  c.trigger_pulse_us = 200'000.0;
   gvs::drivers::GpioStrobe strobe(c);
-  // trigger on 0-100 ms; LED on 0-150 and 300-450 ms
-  const auto seen = fire_and_sample(strobe, slow_double_pulse(), {50.0, 125.0, 225.0, 375.0, 550.0});
-  const std::pair<int, int> want[] = {{1, 1}, {0, 1}, {0, 0}, {0, 1}, {0, 0}};
-  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], want[i]) << "sample " << i;
-  ASSERT_EQ(strobe.last_edges().size(), 6u);
-  for (const auto& e : strobe.last_edges()) {
-    EXPECT_GE(e.achieved_ns, e.target_ns);              // never early
-    EXPECT_LT(e.achieved_ns - e.target_ns, 20'000'000); // generous: emulated guest
+  const auto samples = fire_and_sample(strobe, slow_double_pulse());
+  const auto edges = strobe.last_edges();
+  ASSERT_EQ(edges.size(), 6u);
+  for (const auto& e : edges) {
+    EXPECT_GE(e.achieved_ns, e.target_ns);               // never early
+    EXPECT_LT(e.achieved_ns - e.target_ns, 1'000'000'000);  // sanity only: the guest is emulated
   }
+  using gvs::drivers::StrobeOutput;
+  EXPECT_EQ(check_samples(samples, edges, StrobeOutput::led, false), (std::vector<int>{0, 1, 0, 1, 0}));
+  EXPECT_EQ(check_samples(samples, edges, StrobeOutput::trigger, false), (std::vector<int>{0, 1, 0}));
+  std::printf("gpio-sim: %zu samples of the lines during the double pulse\n", samples.size());
 }
 
 TEST_F(GpioSim, SinglePulseActiveLowInvertsTheLines) {
   auto c = config(true);
-  c.trigger_pulse_us = 100'000.0;
+  c.trigger_pulse_us = 200'000.0;
   gvs::drivers::GpioStrobe strobe(c);
   EXPECT_EQ(level(kTriggerLine), 1);  // off = high
   EXPECT_EQ(level(kLedLine), 1);
   gvs::dsp::ExposurePlan p;
   p.pulse_count = 1;
-  p.pulses[0] = {200'000.0, 150'000.0};
-  p.exposure_us = 350'000.0;
-  const auto seen = fire_and_sample(strobe, p, {50.0, 150.0, 275.0, 450.0});
-  const std::pair<int, int> want[] = {{0, 1}, {1, 1}, {1, 0}, {1, 1}};
-  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], want[i]) << "sample " << i;
+  p.pulses[0] = {400'000.0, 200'000.0};
+  p.exposure_us = 600'000.0;
+  const auto samples = fire_and_sample(strobe, p);
+  using gvs::drivers::StrobeOutput;
+  EXPECT_EQ(check_samples(samples, strobe.last_edges(), StrobeOutput::led, true), (std::vector<int>{1, 0, 1}));
+  EXPECT_EQ(check_samples(samples, strobe.last_edges(), StrobeOutput::trigger, true), (std::vector<int>{1, 0, 1}));
 }
 
 TEST_F(GpioSim, ContinuousExposureKeepsTheLedOnForTheExposure) {
   gvs::drivers::GpioStrobe strobe(config(false));
   gvs::dsp::ExposurePlan p;  // no pulses
-  p.exposure_us = 200'000.0;
-  const auto seen = fire_and_sample(strobe, p, {100.0, 300.0});
-  EXPECT_EQ(seen[0].second, 1);
-  EXPECT_EQ(seen[1].second, 0);
-  EXPECT_EQ(seen[1].first, 0);  // the 10 us trigger is long over
+  p.exposure_us = 300'000.0;
+  const auto samples = fire_and_sample(strobe, p);
+  const auto edges = strobe.last_edges();
+  ASSERT_EQ(edges.size(), 4u);
+  EXPECT_EQ(edges.back().target_ns - edges.front().target_ns, 300'000'000);
+  EXPECT_EQ(check_samples(samples, edges, gvs::drivers::StrobeOutput::led, false), (std::vector<int>{0, 1, 0}));
 }
 
 TEST_F(GpioSim, FastDoublePulseTimingIsRecordedAndPrinted) {
@@ -165,8 +222,8 @@ TEST_F(GpioSim, FastDoublePulseTimingIsRecordedAndPrinted) {
   p.pulses[1] = {500.0, 20.0};
   p.exposure_us = 520.0;
   strobe.arm(p, 16'667.0);
-  std::int64_t worst_ns = 0;
-  double worst_separation_error_us = 0.0;
+  std::vector<std::int64_t> late_ns;
+  std::vector<double> separation_error_us;
   for (int frame = 0; frame < 50; ++frame) {
     const auto r = strobe.fire(now_ns() + 2'000'000);
     EXPECT_FALSE(r.error);
@@ -176,14 +233,22 @@ TEST_F(GpioSim, FastDoublePulseTimingIsRecordedAndPrinted) {
     int pulse = 0;
     for (const auto& e : edges) {
       EXPECT_GE(e.achieved_ns, e.target_ns);
-      worst_ns = std::max(worst_ns, e.achieved_ns - e.target_ns);
+      late_ns.push_back(e.achieved_ns - e.target_ns);
       if (e.output == gvs::drivers::StrobeOutput::led && e.on) on_ns[pulse++] = e.achieved_ns;
     }
-    worst_separation_error_us =
-        std::max(worst_separation_error_us, std::abs(static_cast<double>(on_ns[1] - on_ns[0]) / 1e3 - 500.0));
+    separation_error_us.push_back(std::abs(static_cast<double>(on_ns[1] - on_ns[0]) / 1e3 - 500.0));
   }
-  std::printf("gpio-sim: 50 double pulses, worst edge lateness %.1f us, worst separation error %.1f us\n",
-              static_cast<double>(worst_ns) / 1e3, worst_separation_error_us);
-  EXPECT_LT(worst_ns, 50'000'000);  // only a sanity bound: the guest is emulated (figures: gvs_strobe_bench)
+  std::sort(late_ns.begin(), late_ns.end());
+  std::sort(separation_error_us.begin(), separation_error_us.end());
+  const double late_median_us = static_cast<double>(late_ns[late_ns.size() / 2]) / 1e3;
+  const double separation_median_us = separation_error_us[separation_error_us.size() / 2];
+  std::printf("gpio-sim: 50 double pulses, edge lateness median %.1f us, max %.1f us; separation error median %.1f us, "
+              "max %.1f us\n",
+              late_median_us, static_cast<double>(late_ns.back()) / 1e3, separation_median_us,
+              separation_error_us.back());
+  // Generous bounds on the medians (the guest is emulated and its tails are
+  // the host's; figures: gvs_strobe_bench): a wrong clock or unit fails them.
+  EXPECT_LT(late_median_us, 5000.0);
+  EXPECT_LT(separation_median_us, 5000.0);
   EXPECT_EQ(level(kLedLine), 0);
 }
