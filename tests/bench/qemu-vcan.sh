@@ -27,7 +27,8 @@
 #
 # Needs (installed with apt-get when missing and running as root):
 # qemu-system-x86, busybox-static, xz-utils; the kernel package is
-# downloaded (not installed) with apt-get download.
+# downloaded (not installed) with apt-get download. --gpio-sim also needs
+# linux-source-6.1, linux-headers-<abi> and gcc-12 (build-gpio-sim.sh).
 set -euo pipefail
 
 CACHE="${GVS_BENCH_CACHE:-${PWD}/bench-cache}"
@@ -45,7 +46,7 @@ while [[ $# -gt 0 ]]; do
     --prepare-only) PREPARE_ONLY=1; shift ;;
     --gpio-sim) GPIO_SIM_LINES="$2"; shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done
