@@ -111,8 +111,8 @@ FireReport GpioStrobe::fire(std::int64_t start_ns) noexcept {
     while (now_ns() < e.target_ns) {
     }
     if (gpiod_line_set_value(line, e.on ? 1 : 0) != 0) report.error = true;
-    (e.output == StrobeOutput::led ? led_on_ : trigger_on_) = e.on;
     e.achieved_ns = now_ns();
+    (e.output == StrobeOutput::led ? led_on_ : trigger_on_) = e.on;
     const std::int64_t late_ns = e.achieved_ns - e.target_ns;
     if (late_ns > late_limit_ns_) ++report.late_edges;
     if (late_ns > report.max_late_ns) report.max_late_ns = late_ns;
