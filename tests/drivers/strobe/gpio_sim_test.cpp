@@ -19,6 +19,41 @@
 
 #include "gvs/drivers/gpio_strobe.hpp"
 
+// Counts heap allocations on a thread while t_counting is set (the way
+// tests/daemon/gvsd_alloc_test.cpp does): fire() must not allocate. Not in
+// sanitizer builds, which own malloc (the test then says it is skipped).
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define GVS_COUNT_ALLOCATIONS 0
+#else
+#define GVS_COUNT_ALLOCATIONS 1
+#endif
+namespace {
+thread_local bool t_counting = false;
+std::atomic<std::uint64_t> g_allocations{0};
+void note_allocation() noexcept {
+  if (t_counting) g_allocations.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+#if GVS_COUNT_ALLOCATIONS
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* malloc(std::size_t n) {
+  note_allocation();
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t size) {
+  note_allocation();
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, std::size_t n) {
+  note_allocation();
+  return __libc_realloc(p, n);
+}
+}
+#endif
+
 namespace {
 
 constexpr int kTriggerLine = 0;
@@ -251,4 +286,30 @@ TEST_F(GpioSim, FastDoublePulseTimingIsRecordedAndPrinted) {
   EXPECT_LT(late_median_us, 5000.0);
   EXPECT_LT(separation_median_us, 5000.0);
   EXPECT_EQ(level(kLedLine), 0);
+}
+
+TEST_F(GpioSim, FiringAPlanAllocatesNothing) {
+#if !GVS_COUNT_ALLOCATIONS
+  GTEST_SKIP() << "sanitizer build: the sanitizer owns malloc, allocations cannot be counted";
+#else
+  gvs::drivers::GpioStrobe strobe(config(false));
+  gvs::dsp::ExposurePlan p;
+  p.pulse_count = 2;
+  p.pulses[0] = {0.0, 20.0};
+  p.pulses[1] = {500.0, 20.0};
+  p.exposure_us = 520.0;
+  g_allocations = 0;
+  t_counting = true;
+  strobe.arm(p, 16'667.0);
+  std::size_t edges = 0;
+  for (int frame = 0; frame < 20; ++frame) edges += strobe.fire(now_ns() + 2'000'000).edges;
+  t_counting = false;
+  EXPECT_EQ(edges, 20u * 6u);
+  EXPECT_EQ(g_allocations.load(), 0u) << "heap allocations while arming and firing";
+  // The counter counts: a vector on this thread is seen.
+  t_counting = true;
+  std::vector<int> v(1000);
+  t_counting = false;
+  EXPECT_GT(g_allocations.load(), 0u);
+#endif
 }
