@@ -2,7 +2,7 @@
 # qemu-vcan.sh — run a command on a virtual CAN bus (vcan0) inside a Debian
 # kernel booted under qemu, for machines whose own kernel has no CAN support.
 #
-#   tests/bench/qemu-vcan.sh [--cache DIR] [--timeout SEC] [--prepare-only] [--systemd] -- COMMAND [ARG...]
+#   tests/bench/qemu-vcan.sh [--cache DIR] [--timeout SEC] [--gpio-sim LINES] [--systemd] [--prepare-only] -- COMMAND [ARG...]
 #
 # The guest runs Debian 12's kernel (linux-image-amd64 → linux-image-6.1.0-*-amd64,
 # fetched with apt-get download into the cache) with a busybox initramfs that
@@ -18,6 +18,13 @@
 # and COMMAND runs as the unit gvs-bench.service of the target
 # gvs-bench.target (basic.target, nothing of the host's multi-user.target);
 # its output is printed when the guest has powered off.
+# --gpio-sim LINES also loads gpio-sim.ko, the kernel's GPIO simulator, built
+# out of tree for the same kernel ABI by tests/bench/build-gpio-sim.sh
+# (linux-source-6.1 + linux-headers-<abi>, cached in the cache folder), mounts
+# configfs and creates one simulated chip with LINES lines (label gvs-sim).
+# COMMAND then sees GVS_GPIO_SIM_CHIP (/dev/gpiochipN) and GVS_GPIO_SIM_SYSFS
+# (/sys/devices/platform/gpio-sim.0/gpiochipN, with sim_gpioK/value = the
+# line's level as driven by its consumer).
 #
 # Exit codes: COMMAND's own; 125 if the guest did not boot or did not report
 # (message and console tail on stderr); 126 if qemu/kernel/busybox cannot be
@@ -25,7 +32,8 @@
 #
 # Needs (installed with apt-get when missing and running as root):
 # qemu-system-x86, busybox-static, xz-utils; the kernel package is
-# downloaded (not installed) with apt-get download.
+# downloaded (not installed) with apt-get download. --gpio-sim also needs
+# linux-source-6.1, linux-headers-<abi> and gcc-12 (build-gpio-sim.sh).
 set -euo pipefail
 
 CACHE="${GVS_BENCH_CACHE:-${PWD}/bench-cache}"
@@ -33,6 +41,7 @@ TIMEOUT=300
 PREPARE_ONLY=0
 SYSTEMD=0
 MEMORY_MB=1024
+GPIO_SIM_LINES=0
 
 die() { echo "qemu-vcan: $*" >&2; exit "${2:-126}"; }
 
@@ -42,8 +51,9 @@ while [[ $# -gt 0 ]]; do
     --timeout) TIMEOUT="$2"; shift 2 ;;
     --prepare-only) PREPARE_ONLY=1; shift ;;
     --systemd) SYSTEMD=1; shift ;;
+    --gpio-sim) GPIO_SIM_LINES="$2"; shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done
@@ -83,6 +93,7 @@ if [[ ! -f "$KDIR/.ready" ]]; then
     { apt-get update -qq >/dev/null 2>&1 || true; (cd "$KDIR/deb" && apt-get download "$pkg" >/dev/null 2>&1); } ||
     die "apt-get download $pkg failed (no network?)"
   dpkg -x "$KDIR"/deb/*.deb "$KDIR/root" || die "dpkg -x of $pkg failed"
+  dpkg-deb -f "$KDIR"/deb/*.deb Version > "$KDIR/image-version"
   rm -rf "$KDIR/deb"
   touch "$KDIR/.ready"
 fi
@@ -90,11 +101,22 @@ VMLINUZ="$(ls "$KDIR"/root/boot/vmlinuz-* | head -1)"
 KVER="${VMLINUZ##*/vmlinuz-}"
 MODDIR="$KDIR/root/lib/modules/$KVER"
 
+# --- gpio-sim (optional) ----------------------------------------------------------
+INITRD_TAG=""
+if [[ "$GPIO_SIM_LINES" != 0 ]]; then
+  [[ "$GPIO_SIM_LINES" =~ ^[1-9][0-9]?$ ]] || die "--gpio-sim wants a line count 1..99, got '$GPIO_SIM_LINES'" 2
+  image_version="$(cat "$KDIR/image-version" 2>/dev/null ||
+    apt-cache show "linux-image-$KVER" 2>/dev/null | awk '/^Version:/ {print $2; exit}')"
+  "$(dirname "$0")/build-gpio-sim.sh" "$KVER" "$CACHE/gpio-sim-$KVER" "$image_version" >&2 ||
+    die "cannot build gpio-sim.ko for $KVER (see above)" $?
+  INITRD_TAG="-gpio-sim"
+fi
+
 # --- initramfs -----------------------------------------------------------------
 WANT_MODULES=(configfs can-dev vcan can can-raw virtio_ring virtio virtio_pci_modern_dev
   virtio_pci_legacy_dev virtio_pci netfs fscache 9pnet 9pnet_virtio 9p overlay)
-INITRD="$CACHE/initramfs-$KVER.cpio.gz"
-if [[ ! -f "$INITRD" || "$0" -nt "$INITRD" ]]; then
+INITRD="$CACHE/initramfs-$KVER$INITRD_TAG.cpio.gz"
+if [[ ! -f "$INITRD" || "$0" -nt "$INITRD" || ( -n "$INITRD_TAG" && "$CACHE/gpio-sim-$KVER/gpio-sim.ko" -nt "$INITRD" ) ]]; then
   IR="$CACHE/initramfs-root"
   rm -rf "$IR"; mkdir -p "$IR"/{bin,dev,proc,sys,host,modules,tmp}
   cp /bin/busybox "$IR/bin/busybox"
@@ -131,6 +153,7 @@ if [[ ! -f "$INITRD" || "$0" -nt "$INITRD" ]]; then
     esac
     echo "$base" >> "$IR/modules/order"
   done
+  [[ -z "$INITRD_TAG" ]] || cp "$CACHE/gpio-sim-$KVER/gpio-sim.ko" "$IR/modules/gpio-sim.ko"
   cat > "$IR/init" <<'INIT'
 #!/bin/busybox sh
 /bin/busybox --install -s /bin
@@ -138,9 +161,21 @@ export PATH=/bin
 mount -t proc proc /proc; mount -t sysfs sys /sys; mount -t devtmpfs dev /dev
 for m in $(cat /modules/order); do insmod /modules/$m 2>/dev/null || echo "gvs-bench: insmod $m failed"; done
 set -- $(cat /proc/cmdline)
-RUN=""; SYSTEMD=""
-for a; do case "$a" in gvs.run=*) RUN="${a#gvs.run=}";; gvs.systemd=1) SYSTEMD=1;; esac; done
+RUN=""; SYSTEMD=""; GPIO_SIM=0
+for a; do case "$a" in gvs.run=*) RUN="${a#gvs.run=}";; gvs.systemd=1) SYSTEMD=1;; gvs.gpiosim=*) GPIO_SIM="${a#gvs.gpiosim=}";; esac; done
 fail() { echo "gvs-bench: $*"; poweroff -f; }
+if [ "$GPIO_SIM" != 0 ]; then
+  insmod /modules/gpio-sim.ko || fail "insmod gpio-sim.ko failed"
+  mkdir -p /sys/kernel/config
+  mount -t configfs none /sys/kernel/config || fail "cannot mount configfs"
+  G=/sys/kernel/config/gpio-sim/gvs
+  mkdir $G $G/bank0 || fail "cannot create a gpio-sim chip in configfs"
+  echo "$GPIO_SIM" > $G/bank0/num_lines; echo gvs-sim > $G/bank0/label
+  echo 1 > $G/live || fail "cannot bring the gpio-sim chip live"
+  export GVS_GPIO_SIM_CHIP="/dev/$(cat $G/bank0/chip_name)"
+  export GVS_GPIO_SIM_SYSFS="/sys/devices/platform/$(cat $G/dev_name)/$(cat $G/bank0/chip_name)"
+  echo "gvs-bench: gpio-sim $GVS_GPIO_SIM_CHIP with $GPIO_SIM lines"
+fi
 ip link add dev vcan0 type vcan || fail "cannot create vcan0"
 ip link set vcan0 up || fail "cannot raise vcan0"
 mount -t 9p -o trans=virtio,version=9p2000.L,ro hostroot /host || fail "cannot mount the host root over 9p"
@@ -196,7 +231,7 @@ EXTRA_APPEND=""
 set +e
 timeout --foreground "$TIMEOUT" qemu-system-x86_64 -m "$MEMORY_MB" -smp 2 -nographic -no-reboot \
   -kernel "$VMLINUZ" -initrd "$INITRD" \
-  -append "console=ttyS0 quiet loglevel=3 panic=-1 gvs.run=$RUN$EXTRA_APPEND" \
+  -append "console=ttyS0 quiet loglevel=3 panic=-1 gvs.run=$RUN gvs.gpiosim=$GPIO_SIM_LINES$EXTRA_APPEND" \
   -virtfs "local,path=/,mount_tag=hostroot,security_model=none,readonly=on,multidevs=remap" \
   -virtfs "local,path=$RUN,mount_tag=gvsrun,security_model=none,multidevs=remap" \
   -nic none < /dev/null 2>&1 | tee "$RUN/console.log" |

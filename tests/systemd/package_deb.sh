@@ -27,7 +27,7 @@ for f in ./usr/bin/gvsd ./usr/bin/gvs ./usr/lib/systemd/system/gvsd.service ./us
 done
 depends=$(dpkg-deb -f "$deb" Depends)
 echo "Depends: $depends"
-for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libsystemd0 libspdlog1.10 systemd procps; do
+for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libsystemd0 libspdlog1.10 libgpiod2 systemd procps; do
   grep -q "$lib" <<<"$depends" || fail "Depends lacks $lib"
 done
 dpkg-deb -e "$deb" "$work/control"

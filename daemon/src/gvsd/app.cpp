@@ -152,6 +152,7 @@ int run(const CommandLine& cli) {
       hooks.max_ticks = static_cast<std::uint64_t>(config.run_for_s * 1000.0 / config.period_ms + 0.5);
     }
     pipeline = std::make_unique<Pipeline>(config, std::move(source), std::move(estimator), std::move(sink), hooks);
+    if (config.light.driver != "none") spdlog::info("gvsd: light and trigger: {}", pipeline->light_description());
     // From here on the stop/reload signals are blocked in every thread (the
     // RT threads inherit the mask) and the main thread takes them with
     // sigtimedwait, so no handler ever runs on an RT thread. Before this

@@ -1,5 +1,12 @@
 // The capture thread: frames from the source into the ring. Never blocks on
 // another thread, never allocates, never logs: it counts.
+//
+// It also fires the LED ring and trigger ([light]): the frame timing lives
+// here, and with an externally triggered global-shutter camera the trigger
+// edge is what starts the frame the source then delivers, so the plan is
+// fired right before the source is asked for the frame, once per frame, at
+// the source's rate. A user-space-timed plan (gpio) holds the thread for the
+// plan's length (a few ms at most, well inside a frame period).
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
@@ -17,11 +24,16 @@ void Pipeline::capture_loop() noexcept {
 
     // Closed-loop exposure: the newest plan from the processing thread.
     const std::uint64_t version = exposure_request_.version();
-    if (version != applied_exposure && source_->controls_exposure()) {
-      source_->set_exposure(exposure_request_.read());
+    if (version != applied_exposure) {
+      const dsp::ExposurePlan plan = exposure_request_.read();
+      if (source_->controls_exposure()) {
+        source_->set_exposure(plan);
+        bump(counters_.exposure_updates);
+      }
+      if (light_ && !light_->arm(plan, static_cast<double>(period_ns) / 1e3)) bump(counters_.light_errors);
       applied_exposure = version;
-      bump(counters_.exposure_updates);
     }
+    if (light_) fire_light();
 
     FrameSlot* slot = ring_.try_claim();
     const bool overrun = slot == nullptr;
@@ -58,6 +70,16 @@ void Pipeline::capture_loop() noexcept {
     }
   }
   frame_ready_.post();  // let the processing thread notice the stop at once
+}
+
+void Pipeline::fire_light() noexcept {
+  constexpr std::int64_t kLeadNs = 200'000;  // time to sleep to the first edge rather than be late for it
+  const drivers::FireReport r = light_->fire(mono_now_ns() + kLeadNs);
+  bump(counters_.light_plans);
+  bump(counters_.light_edges, r.edges);
+  if (r.late_edges > 0) bump(counters_.light_late_edges, r.late_edges);
+  if (r.error) bump(counters_.light_errors);
+  raise_max(counters_.light_late_max_ns, r.max_late_ns);
 }
 
 }  // namespace gvs::daemon

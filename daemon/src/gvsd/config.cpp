@@ -152,6 +152,32 @@ void read_thread(Section& threads, std::string_view name, ThreadConfig& out, con
   t.finish();
 }
 
+// [light]: the LED ring and the camera trigger (drivers/strobe.hpp).
+void read_light(Section& top, drivers::StrobeConfig& l, const std::string& origin) {
+  Section light(top.table("light"), "light", origin);
+  light.text("driver", l.driver, {"none", "gpio", "pwm"});
+  light.text("chip", l.gpio_chip);
+  light.integer("led_line", l.led_line, 0, 1023, "(line offset on the chip)");
+  light.integer("trigger_line", l.trigger_line, -1, 1023, "(-1 = no trigger output)");
+  light.boolean("active_low", l.active_low);
+  light.text("consumer", l.consumer);
+  light.real("trigger_pulse_us", l.trigger_pulse_us, 1.0, 10000.0, "us");
+  light.real("spin_us", l.spin_us, 0.0, 1000.0, "us");
+  light.real("late_limit_us", l.late_limit_us, 1.0, 100000.0, "us");
+  light.text("pwm_sysfs_root", l.pwm_sysfs_root);
+  light.integer("pwm_chip", l.pwm_chip, 0, 1023, "(the N of pwmchipN)");
+  light.integer("pwm_channel", l.pwm_channel, 0, 1023, "(the M of pwmM)");
+  light.finish();
+  if (l.driver == "gpio" && l.led_line < 0) {
+    throw ConfigError(origin + ": [light] driver = \"gpio\" needs led_line (the LED ring's line on chip " +
+                      l.gpio_chip + ", see gpioinfo)");
+  }
+  if (l.driver == "gpio" && l.trigger_line == l.led_line) {
+    throw ConfigError(origin + ": [light] trigger_line and led_line are both " + std::to_string(l.led_line) +
+                      ": give the trigger its own line, or -1 for none");
+  }
+}
+
 }  // namespace
 
 const std::vector<std::string>& log_level_names() {
@@ -233,6 +259,7 @@ DaemonConfig parse_config(std::string_view toml_text, const std::string& origin)
     throw ConfigError(origin + ": [libcamera] needs gain_min <= gain_max (got " + fmt_num(c.libcamera_gain_min) +
                       ", " + fmt_num(c.libcamera_gain_max) + ")");
   }
+  read_light(top, c.light, origin);
 
   Section threads(top.table("threads"), "threads", origin);
   read_thread(threads, "capture", c.capture_thread, origin);
@@ -286,6 +313,7 @@ std::vector<std::string> restart_only_changes(const DaemonConfig& a, const Daemo
             a.libcamera_gain_max != b.libcamera_gain_max || a.libcamera_stall_periods != b.libcamera_stall_periods ||
             a.libcamera_retry_interval_ms != b.libcamera_retry_interval_ms,
         "libcamera");
+  check(a.light != b.light, "light");
   check(a.capture_thread.priority != b.capture_thread.priority || a.capture_thread.cpu != b.capture_thread.cpu,
         "threads.capture");
   check(a.processing_thread.priority != b.processing_thread.priority ||

@@ -17,6 +17,15 @@ std::string estimate_text(const PublishedEstimate& latest, std::int64_t now_ns) 
                      e.method, age_ms);
 }
 
+/// The [light] part; empty when no light driver ran.
+std::string light_text(const HealthSnapshot& n, const HealthSnapshot& p) {
+  if (n.light_plans == 0 && n.light_errors == 0) return {};
+  return fmt::format(" | light {} plans, {} edges, late edges {} (+{}), errors {} (+{}), max lateness {:.3f} ms",
+                     n.light_plans, n.light_edges, n.light_late_edges, n.light_late_edges - p.light_late_edges,
+                     n.light_errors, n.light_errors - p.light_errors,
+                     static_cast<double>(n.light_late_max_ns) / 1e6);
+}
+
 }  // namespace
 
 std::string format_health_line(const HealthSnapshot& n, const HealthSnapshot& p, const PublishedEstimate& latest,
@@ -26,7 +35,7 @@ std::string format_health_line(const HealthSnapshot& n, const HealthSnapshot& p,
       "health: capture {} frames ({:.1f} fps), ring overruns {} (+{}), dropped {} (+{}), source errors {} (+{}), "
       "late {} | processing {} frames, skipped {} (+{}), rejected {} (+{}), estimator failures {} (+{}), max {:.2f} ms | "
       "CAN {} frames sent, {} flagged invalid (+{}), send errors {} (+{}{}), late wake-ups {} (+{}), "
-      "missed periods {}, max lateness {:.3f} ms | exposure updates {} | latest: {}",
+      "missed periods {}, max lateness {:.3f} ms | exposure updates {}{} | latest: {}",
       n.frames_captured, fps, n.ring_overruns, n.ring_overruns - p.ring_overruns, n.frames_dropped,
       n.frames_dropped - p.frames_dropped, n.source_errors, n.source_errors - p.source_errors, n.capture_late,
       n.frames_processed, n.frames_skipped, n.frames_skipped - p.frames_skipped, n.frames_rejected,
@@ -35,7 +44,8 @@ std::string format_health_line(const HealthSnapshot& n, const HealthSnapshot& p,
       n.invalid_sent, n.invalid_sent - p.invalid_sent, n.send_errors, n.send_errors - p.send_errors,
       n.last_send_errno != 0 ? fmt::format(", last errno {}", n.last_send_errno) : std::string(),
       n.late_wakeups, n.late_wakeups - p.late_wakeups, n.missed_ticks,
-      static_cast<double>(n.wakeup_late_max_ns) / 1e6, n.exposure_updates, estimate_text(latest, now_ns));
+      static_cast<double>(n.wakeup_late_max_ns) / 1e6, n.exposure_updates, light_text(n, p),
+      estimate_text(latest, now_ns));
 }
 
 std::string format_status_text(const HealthSnapshot& n, const PublishedEstimate& latest, std::int64_t now_ns) {

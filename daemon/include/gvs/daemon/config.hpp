@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gvs/drivers/strobe.hpp"
 #include "gvs/dsp/frame.hpp"
 
 namespace gvs::daemon {
@@ -68,6 +69,8 @@ struct DaemonConfig {
   double libcamera_gain_max = 8.0;
   double libcamera_stall_periods = 3.0;
   double libcamera_retry_interval_ms = 500.0;
+  // [light] LED ring and trigger (drivers/strobe.hpp); restart only
+  drivers::StrobeConfig light;
 
   // [threads]
   ThreadConfig capture_thread{80, -1};

@@ -26,6 +26,12 @@ struct HealthCounters {
   std::atomic<std::uint64_t> capture_late{0};      ///< frames delivered more than a period late
   std::atomic<std::uint64_t> exposure_updates{0};
   std::atomic<std::uint64_t> capture_heartbeat{0};
+  // capture thread: LED ring and trigger ([light])
+  std::atomic<std::uint64_t> light_plans{0};       ///< frames whose exposure plan was fired
+  std::atomic<std::uint64_t> light_edges{0};       ///< output edges driven
+  std::atomic<std::uint64_t> light_late_edges{0};  ///< edges later than [light] late_limit_us
+  std::atomic<std::uint64_t> light_errors{0};      ///< failed set-value / sysfs writes, plans the driver refused
+  std::atomic<std::int64_t> light_late_max_ns{0};
   // processing thread
   std::atomic<std::uint64_t> frames_processed{0};
   std::atomic<std::uint64_t> frames_skipped{0};    ///< older frames passed over for the newest
@@ -49,6 +55,8 @@ struct HealthCounters {
 struct HealthSnapshot {
   std::uint64_t frames_captured = 0, ring_overruns = 0, frames_dropped = 0, source_errors = 0,
                 capture_late = 0, exposure_updates = 0;
+  std::uint64_t light_plans = 0, light_edges = 0, light_late_edges = 0, light_errors = 0;
+  std::int64_t light_late_max_ns = 0;
   std::uint64_t frames_processed = 0, frames_skipped = 0, estimator_failures = 0, frames_rejected = 0;
   std::int64_t processing_max_ns = 0;
   std::uint64_t sender_ticks = 0, late_wakeups = 0, missed_ticks = 0, send_errors = 0,
@@ -66,6 +74,11 @@ inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
   s.source_errors = c.source_errors.load(r);
   s.capture_late = c.capture_late.load(r);
   s.exposure_updates = c.exposure_updates.load(r);
+  s.light_plans = c.light_plans.load(r);
+  s.light_edges = c.light_edges.load(r);
+  s.light_late_edges = c.light_late_edges.load(r);
+  s.light_errors = c.light_errors.load(r);
+  s.light_late_max_ns = c.light_late_max_ns.load(r);
   s.frames_processed = c.frames_processed.load(r);
   s.frames_skipped = c.frames_skipped.load(r);
   s.estimator_failures = c.estimator_failures.load(r);

@@ -25,6 +25,7 @@
 #include "gvs/daemon/seqlock.hpp"
 #include "gvs/daemon/spsc_ring.hpp"
 #include "gvs/daemon/wakeup.hpp"
+#include "gvs/drivers/strobe.hpp"
 #include "gvs/dsp/exposure_control.hpp"
 
 namespace gvs::daemon {
@@ -111,6 +112,8 @@ class Pipeline {
   [[nodiscard]] const SenderRecords& records() const noexcept { return records_; }
   [[nodiscard]] const FrameSource& source() const noexcept { return *source_; }
   [[nodiscard]] std::string_view sink_description() const noexcept { return sink_->description(); }
+  /// The [light] driver ("none" without one).
+  [[nodiscard]] std::string light_description() const { return light_ ? light_->describe() : "none"; }
   /// Main thread: the next CAN sink event (interface down, bus-off, ...) the
   /// sender queued, oldest first; false when none is waiting.
   bool pop_sink_event(can::SinkEvent& out) noexcept;
@@ -126,6 +129,7 @@ class Pipeline {
   };
 
   void capture_loop() noexcept;
+  void fire_light() noexcept;
   void processing_loop() noexcept;
   void sender_loop() noexcept;
   void run_thread(ThreadRole role, const ThreadConfig& config);
@@ -137,6 +141,7 @@ class Pipeline {
   std::unique_ptr<FrameSource> source_;
   std::unique_ptr<FrameEstimator> estimator_;
   std::unique_ptr<can::CanSink> sink_;
+  std::unique_ptr<drivers::StrobeDriver> light_;  ///< [light]; fired by the capture thread
   PipelineHooks hooks_;
 
   SpscRing<FrameSlot> ring_;
