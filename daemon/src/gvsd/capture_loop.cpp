@@ -7,6 +7,10 @@
 // fired right before the source is asked for the frame, once per frame, at
 // the source's rate. A user-space-timed plan (gpio) holds the thread for the
 // plan's length (a few ms at most, well inside a frame period).
+#include <algorithm>
+#include <array>
+#include <span>
+
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
@@ -52,6 +56,7 @@ void Pipeline::capture_loop() noexcept {
       continue;
     }
 
+    if (light_ && !light_->hardware_timed() && !source_->frames_carry_light()) stamp_light(*slot);
     slot->captured_ns = mono_now_ns();
     slot->sequence = ++sequence;
     bump(counters_.frames_captured);
@@ -80,6 +85,29 @@ void Pipeline::fire_light() noexcept {
   if (r.late_edges > 0) bump(counters_.light_late_edges, r.late_edges);
   if (r.error) bump(counters_.light_errors);
   raise_max(counters_.light_late_max_ns, r.max_late_ns);
+  // Keep the newest on-intervals, oldest first (a frame's exposure may span two fires).
+  std::array<drivers::LitInterval, dsp::ExposurePlan::kMaxPulses + 1> fresh{};
+  const std::size_t n = drivers::led_intervals(light_->last_edges(), fresh);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (lit_count_ == lit_.size()) {
+      std::copy(lit_.begin() + 1, lit_.end(), lit_.begin());
+      --lit_count_;
+    }
+    lit_[lit_count_++] = fresh[i];
+  }
+}
+
+void Pipeline::stamp_light(FrameSlot& slot) noexcept {
+  // The camera said how long its shutter was open; the light is what the LED
+  // ring's measured edges put inside that time. None: the frame is dark for
+  // a reason the estimator must not guess at.
+  dsp::ExposurePlan lit;
+  const std::span<const drivers::LitInterval> history(lit_.data(), lit_count_);
+  if (drivers::light_in_exposure(history, slot.view.t_ns, slot.view.exposure.exposure_us, lit)) {
+    slot.view.exposure = lit;
+  } else if (slot.defect == nullptr) {
+    slot.defect = "no-light-in-exposure";
+  }
 }
 
 }  // namespace gvs::daemon

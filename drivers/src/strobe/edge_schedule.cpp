@@ -70,4 +70,38 @@ EdgeSchedule make_edge_schedule(const dsp::ExposurePlan& plan, std::int64_t star
   return s;
 }
 
+std::size_t led_intervals(std::span<const StrobeEdge> edges, std::span<LitInterval> out) noexcept {
+  std::size_t n = 0;
+  std::int64_t on_ns = -1;
+  for (const StrobeEdge& e : edges) {
+    if (e.output != StrobeOutput::led) continue;
+    if (e.on) {
+      on_ns = e.achieved_ns;
+    } else if (on_ns >= 0 && n < out.size()) {
+      out[n++] = {on_ns, e.achieved_ns};
+      on_ns = -1;
+    }
+  }
+  return n;
+}
+
+bool light_in_exposure(std::span<const LitInterval> lit, std::int64_t start_ns, double exposure_us,
+                       dsp::ExposurePlan& plan) noexcept {
+  const auto end_ns = start_ns + static_cast<std::int64_t>(exposure_us * 1000.0);
+  plan = dsp::ExposurePlan{};
+  plan.exposure_us = exposure_us;
+  std::int64_t covered_ns = 0;
+  for (const LitInterval& l : lit) {
+    const std::int64_t a = std::max(l.on_ns, start_ns);
+    const std::int64_t b = std::min(l.off_ns, end_ns);
+    if (b <= a) continue;
+    if (plan.pulse_count == dsp::ExposurePlan::kMaxPulses) return false;
+    plan.pulses[plan.pulse_count++] = {static_cast<double>(a - start_ns) / 1000.0, static_cast<double>(b - a) / 1000.0};
+    covered_ns += b - a;
+  }
+  if (plan.pulse_count == 0) return false;
+  if (covered_ns >= end_ns - start_ns) plan.pulse_count = 0;  // lit all through: a continuous exposure
+  return true;
+}
+
 }  // namespace gvs::drivers

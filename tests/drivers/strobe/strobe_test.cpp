@@ -2,6 +2,10 @@
 // the PWM driver against a fake sysfs tree in a temporary folder.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <span>
+#include <vector>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +17,11 @@
 namespace fs = std::filesystem;
 using gvs::drivers::EdgeSchedule;
 using gvs::drivers::StrobeOutput;
+using gvs::drivers::LitInterval;
+using gvs::drivers::StrobeEdge;
+using gvs::drivers::led_intervals;
+using gvs::drivers::light_in_exposure;
+namespace dsp = gvs::dsp;
 
 namespace {
 
@@ -193,6 +202,45 @@ TEST_F(PwmFakeSysfs, MissingChipNamesThePathAndTheKey) {
 }
 
 // --- set-up errors of the GPIO driver (no chip needed) ------------------------------
+
+// The light a real camera's frame got: the LED's measured on-times inside
+// the shutter time the camera reported.
+TEST(LightInExposure, MeasuredPulsesInsideTheShutterBecomeTheFramesPulses) {
+  // A double pulse as fired: trigger, LED 20 us at +100 us and 20 us at +600 us.
+  const std::vector<StrobeEdge> edges{{StrobeOutput::trigger, true, 0, 1'000'000},
+                                      {StrobeOutput::trigger, false, 0, 1'010'000},
+                                      {StrobeOutput::led, true, 0, 1'100'000},
+                                      {StrobeOutput::led, false, 0, 1'120'000},
+                                      {StrobeOutput::led, true, 0, 1'600'000},
+                                      {StrobeOutput::led, false, 0, 1'620'500}};
+  std::array<LitInterval, 4> lit{};
+  ASSERT_EQ(led_intervals(edges, lit), 2u);
+  EXPECT_EQ(lit[1].on_ns, 1'600'000);
+  EXPECT_EQ(lit[1].off_ns, 1'620'500);
+
+  // Shutter open 1 ms from 1.05 ms: both pulses inside, at their measured offsets.
+  dsp::ExposurePlan plan;
+  ASSERT_TRUE(light_in_exposure(std::span(lit.data(), 2), 1'050'000, 1000.0, plan));
+  ASSERT_EQ(plan.pulse_count, 2u);
+  EXPECT_DOUBLE_EQ(plan.exposure_us, 1000.0);
+  EXPECT_DOUBLE_EQ(plan.pulses[0].start_us, 50.0);
+  EXPECT_DOUBLE_EQ(plan.pulses[0].duration_us, 20.0);
+  EXPECT_DOUBLE_EQ(plan.pulses[1].start_us, 550.0);
+  EXPECT_DOUBLE_EQ(plan.pulses[1].duration_us, 20.5);
+
+  // Shutter closed before the second pulse ended: only what fell inside counts.
+  ASSERT_TRUE(light_in_exposure(std::span(lit.data(), 2), 1'050'000, 560.0, plan));
+  ASSERT_EQ(plan.pulse_count, 2u);
+  EXPECT_DOUBLE_EQ(plan.pulses[1].duration_us, 10.0);
+
+  // Shutter open between the pulses: no light, the frame must not be measured.
+  EXPECT_FALSE(light_in_exposure(std::span(lit.data(), 2), 1'200'000, 300.0, plan));
+  // LED on all through the shutter: a continuous exposure (no pulses).
+  const std::array<LitInterval, 1> on{{{900'000, 5'000'000}}};
+  ASSERT_TRUE(light_in_exposure(on, 1'000'000, 3000.0, plan));
+  EXPECT_EQ(plan.pulse_count, 0u);
+  EXPECT_DOUBLE_EQ(plan.exposure_us, 3000.0);
+}
 
 TEST(GpioStrobeSetup, MissingChipNamesItAndSaysWhatToDo) {
   gvs::drivers::StrobeConfig c;

@@ -43,6 +43,11 @@ class FrameSource {
   /// without exposure control ignore it.
   virtual void set_exposure(const dsp::ExposurePlan& plan) noexcept = 0;
   [[nodiscard]] virtual bool controls_exposure() const = 0;
+  /// The frames carry the light that reached the sensor (the simulator
+  /// renders its strobe, a dataset records it). A real camera reports only
+  /// its shutter time: then gvsd stamps each frame with the LED ring's
+  /// measured on-times inside the exposure ([light] driver gpio).
+  [[nodiscard]] virtual bool frames_carry_light() const { return true; }
   /// Main thread: the source's own counters for the health line ("" when
   /// it has none).
   [[nodiscard]] virtual std::string health_text() const { return {}; }

@@ -83,6 +83,7 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
   void set_exposure(const dsp::ExposurePlan& plan) noexcept override;
   [[nodiscard]] bool controls_exposure() const override { return true; }
+  [[nodiscard]] bool frames_carry_light() const override { return false; }
   [[nodiscard]] std::string health_text() const override;
 
   [[nodiscard]] CameraHealth health() const noexcept;

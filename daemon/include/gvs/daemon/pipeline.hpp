@@ -130,6 +130,7 @@ class Pipeline {
 
   void capture_loop() noexcept;
   void fire_light() noexcept;
+  void stamp_light(FrameSlot& slot) noexcept;
   void processing_loop() noexcept;
   void sender_loop() noexcept;
   void run_thread(ThreadRole role, const ThreadConfig& config);
@@ -142,6 +143,10 @@ class Pipeline {
   std::unique_ptr<FrameEstimator> estimator_;
   std::unique_ptr<can::CanSink> sink_;
   std::unique_ptr<drivers::StrobeDriver> light_;  ///< [light]; fired by the capture thread
+  /// The LED's latest on-intervals (measured edges), oldest first: the light
+  /// stamped on frames of sources that do not carry it. Capture thread only.
+  std::array<drivers::LitInterval, 16> lit_{};
+  std::size_t lit_count_ = 0;
   PipelineHooks hooks_;
 
   SpscRing<FrameSlot> ring_;

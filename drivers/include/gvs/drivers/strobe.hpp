@@ -70,6 +70,27 @@ struct EdgeSchedule {
 EdgeSchedule make_edge_schedule(const dsp::ExposurePlan& plan, std::int64_t start_ns, bool with_trigger,
                                 std::int64_t trigger_pulse_ns) noexcept;
 
+/// A time the LED ring was on, from its achieved edges (CLOCK_MONOTONIC).
+struct LitInterval {
+  std::int64_t on_ns = 0;
+  std::int64_t off_ns = 0;
+};
+
+/// The LED's on-intervals among `edges` (one fire()'s, in time order);
+/// returns how many were written to `out` (at most out.size()).
+std::size_t led_intervals(std::span<const StrobeEdge> edges, std::span<LitInterval> out) noexcept;
+
+/// Where a frame did not get its light from its own source (a real camera
+/// reports its shutter time only): the light that actually reached the
+/// sensor, i.e. the parts of the `lit` intervals inside the exposure
+/// [start_ns, start_ns + exposure_us), as the frame's pulses (relative to
+/// the exposure start; pulse_count 0 when the LED was on for the whole
+/// exposure, as the estimators read a continuous exposure). False when no
+/// light fell in the exposure (the frame must not be measured) or more than
+/// ExposurePlan::kMaxPulses pieces did.
+bool light_in_exposure(std::span<const LitInterval> lit, std::int64_t start_ns, double exposure_us,
+                       dsp::ExposurePlan& plan) noexcept;
+
 /// What one fire() achieved.
 struct FireReport {
   std::size_t edges = 0;        ///< edges driven
