@@ -152,7 +152,7 @@ void LibcameraSource::request_completed(const drivers::CompletedRequest& done) n
     last_index_ = std::max(last_index_, h->index);
     h->t_ns = done.sensor_timestamp_ns;
     h->exposure_us = done.exposure_us;
-    h->analogue_gain = done.analogue_gain;
+    h->analogue_gain = static_cast<double>(done.analogue_gain);
     h->defect = nullptr;
     if (done.exposure_us <= 0) {
       bump(counters_.no_exposure_metadata);
