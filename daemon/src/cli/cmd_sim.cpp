@@ -1,4 +1,5 @@
 // gvs sim: writes a simulated run as a gvs-dataset/1 folder, truth included.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -50,6 +51,7 @@ void run_sim(const SimOptions& o) {
     limits.mm_per_px = config.camera.mm_per_px;
     limits.frame_period_us = 1e6 / config.fps;
     limits.max_exposure_us = config.exposure_us;
+    limits.frame_short_side_px = std::min(config.camera.width_px, config.camera.height_px);
   }
 
   drivers::SimFrame frame;

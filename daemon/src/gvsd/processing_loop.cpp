@@ -55,7 +55,7 @@ void Pipeline::processing_loop() noexcept {
 
     if (source_->controls_exposure()) {
       const ExposureSettings s = exposure_settings_.read();
-      const dsp::ExposurePlan next = dsp::next_exposure(e, plan, s.mode, s.limits);
+      const dsp::ExposurePlan next = dsp::next_exposure(e, slot->view.exposure, plan, s.mode, s.limits);
       if (!same_plan(next, plan)) {
         plan = next;
         exposure_request_.write(plan);

@@ -45,6 +45,9 @@ std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config) {
     sim.exposure_us = config.exposure_initial_us;
     sim.camera = config.camera;
     sim.loop = true;
+    // Rendered live beside the estimator: the cheap periodic texture
+    // (SimulatorConfig::periodic_texture, docs/simulator.md).
+    sim.periodic_texture = true;
     try {
       return std::make_unique<SimSource>(sim);
     } catch (const std::invalid_argument& e) {

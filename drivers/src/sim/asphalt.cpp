@@ -11,6 +11,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "hash.hpp"
 
@@ -48,8 +50,10 @@ bool x_range_in_band(const std::array<WorldPoint, 4>& quad, double ya, double yb
   return x_min <= x_max;
 }
 
-/// Smooth value noise on a coarse world lattice (used per feature, not per sample).
-double value_noise(std::uint64_t seed, double x, double y, double lattice_mm) {
+/// Smooth value noise on a coarse world lattice (used per feature, not per
+/// sample); `wrap` maps lattice indices to the hashed ones (periodic texture).
+template <typename Wrap>
+double value_noise(std::uint64_t seed, double x, double y, double lattice_mm, const Wrap& wrap) {
   const double fx = x / lattice_mm;
   const double fy = y / lattice_mm;
   const double gx = std::floor(fx);
@@ -57,7 +61,7 @@ double value_noise(std::uint64_t seed, double x, double y, double lattice_mm) {
   const auto ix = static_cast<std::int64_t>(gx);
   const auto iy = static_cast<std::int64_t>(gy);
   auto val = [&](std::int64_t a, std::int64_t b) {
-    return static_cast<double>(detail::hash_cell(seed, 99, a, b) >> 11) * 0x1.0p-53 * 2.0 - 1.0;
+    return static_cast<double>(detail::hash_cell(seed, 99, wrap(a), wrap(b)) >> 11) * 0x1.0p-53 * 2.0 - 1.0;
   };
   const double tx = fx - gx;
   const double ty = fy - gy;
@@ -117,12 +121,32 @@ AsphaltTexture::AsphaltTexture(std::uint64_t seed) : seed_(seed) {
   }
 }
 
+AsphaltTexture::AsphaltTexture(std::uint64_t seed, double period_mm) : AsphaltTexture(seed) {
+  const double steps = period_mm / kPeriodStepMm;
+  if (!(steps >= 1.0) || std::abs(steps - std::round(steps)) > 1e-9)
+    throw std::invalid_argument("simulator: texture period must be a positive multiple of 36 mm, got " +
+                                std::to_string(period_mm));
+  period_mm_ = period_mm;
+  // A whole number of cells per period (cover changes by a few per cent at most).
+  for (FeatureClass& c : classes_) c.cell_mm = period_mm / std::max(1.0, std::round(period_mm / c.cell_mm));
+}
+
+std::int64_t AsphaltTexture::wrap(std::int64_t index, double lattice_mm) const {
+  if (period_mm_ <= 0.0) return index;
+  const auto n = static_cast<std::int64_t>(std::llround(period_mm_ / lattice_mm));
+  return ((index % n) + n) % n;
+}
+
 void AsphaltTexture::render_rows(const RasterGrid& grid, int row_begin, int row_end,
                                  float* out) const {
   const auto n = static_cast<std::size_t>(row_end - row_begin) * static_cast<std::size_t>(grid.cols);
   std::fill(out, out + n, -1.0f);
   for (std::size_t k = 0; k < classes_.size(); ++k) stamp_class(k, grid, row_begin, row_end, out);
-  add_grain(grid, row_begin, row_end, out);
+  if (period_mm_ > 0.0) {
+    add_grain_periodic(grid, row_begin, row_end, out);
+  } else {
+    add_grain(grid, row_begin, row_end, out);
+  }
 }
 
 namespace {
@@ -210,6 +234,48 @@ void AsphaltTexture::add_grain(const RasterGrid& grid, int row_begin, int row_en
   }
 }
 
+void AsphaltTexture::add_grain_periodic(const RasterGrid& grid, int row_begin, int row_end,
+                                        float* out) const {
+  // As add_grain, with every lattice index wrapped to the period (slower:
+  // used once, to render a periodic tile).
+  const auto key_fine = static_cast<std::uint32_t>(detail::mix64(seed_ ^ 0xF19EULL));
+  const auto key_medium = static_cast<std::uint32_t>(detail::mix64(seed_ ^ 0x3ED1ULL));
+  const auto n_fine = static_cast<int>(std::llround(period_mm_ / kFineLatticeMm));
+  const auto n_medium = static_cast<int>(std::llround(period_mm_ / kMediumLatticeMm));
+  auto noise = [](std::uint32_t key, double x_mm, double y_mm, double lattice_mm, int n) {
+    const double fx = x_mm / lattice_mm;
+    const double fy = y_mm / lattice_mm;
+    const int gx = fast_floor(fx);
+    const int gy = fast_floor(fy);
+    auto wrapped = [n](int k) {
+      k %= n;
+      return static_cast<std::uint32_t>(k < 0 ? k + n : k);
+    };
+    const std::uint32_t x0 = wrapped(gx), x1 = wrapped(gx + 1), y0 = wrapped(gy), y1 = wrapped(gy + 1);
+    auto v = [&](std::uint32_t a, std::uint32_t b) { return lattice_value(key, a, b); };
+    const auto tx = static_cast<float>(fx - gx);
+    const auto ty = static_cast<float>(fy - gy);
+    const float sx = tx * tx * (3.0f - 2.0f * tx);
+    const float sy = ty * ty * (3.0f - 2.0f * ty);
+    const float a = v(x0, y0) + (v(x1, y0) - v(x0, y0)) * sx;
+    const float b = v(x0, y1) + (v(x1, y1) - v(x0, y1)) * sx;
+    return a + (b - a) * sy;
+  };
+  for (int r = row_begin; r < row_end; ++r) {
+    float* row = out + static_cast<std::ptrdiff_t>(r - row_begin) * grid.cols;
+    for (int c = 0; c < grid.cols; ++c) {
+      double x = 0.0, y = 0.0;
+      grid.to_world(c, r, x, y);
+      const float nf = noise(key_fine, x, y, kFineLatticeMm, n_fine);
+      const float nm = noise(key_medium, x, y, kMediumLatticeMm, n_medium);
+      const float v = row[c];
+      const float binder = kBitumen * (1.0f + 0.5f * nf + 0.3f * nm);
+      const float stone = v * (1.0f + 0.18f * nf + 0.06f * nm);
+      row[c] = v < 0.0f ? binder : stone;
+    }
+  }
+}
+
 void AsphaltTexture::stamp_class(std::size_t class_index, const RasterGrid& grid, int row_begin,
                                  int row_end, float* out) const {
   const FeatureClass& fc = classes_[class_index];
@@ -249,7 +315,7 @@ void AsphaltTexture::stamp_class(std::size_t class_index, const RasterGrid& grid
     const auto ix_begin = static_cast<std::int64_t>(std::floor(x_lo / cell));
     const auto ix_end = static_cast<std::int64_t>(std::floor(x_hi / cell));
     for (std::int64_t ix = ix_begin; ix <= ix_end; ++ix) {
-      detail::Rng rng(detail::hash_cell(seed_, class_index, ix, iy));
+      detail::Rng rng(detail::hash_cell(seed_, class_index, wrap(ix, cell), wrap(iy, cell)));
       if (rng.uniform() >= fc.occupancy) continue;
       const double wx = (static_cast<double>(ix) + rng.uniform()) * cell;
       const double wy = (static_cast<double>(iy) + rng.uniform()) * cell;
@@ -296,7 +362,8 @@ void AsphaltTexture::stamp_class(std::size_t class_index, const RasterGrid& grid
             g = 0.40 + 0.07 * static_cast<double>(rng.normal());  // greywacke, granite
           }
           // Slow variation of the surface (wear, dust), about +-8 % over ~12 mm.
-          g *= 1.0 + 0.08 * value_noise(seed_, wx, wy, 12.0);
+          g *= 1.0 + 0.08 * value_noise(seed_, wx, wy, kWearLatticeMm,
+                                        [this](std::int64_t k) { return wrap(k, kWearLatticeMm); });
           f.grey = static_cast<float>(std::clamp(g, 0.1, 0.85));
           f.rim = 0.25f + 0.15f * rng.uniformf();
           f.tilt_x = 0.12f * (rng.uniformf() - 0.5f);

@@ -275,8 +275,12 @@ void ExposureRenderer::render(const AsphaltTexture& texture, const Trajectory& t
       for (int s = range.start; s < range.end; ++s) {
         int r0, r1;
         strip_rows(s, r0, r1);
-        texture.render_rows(grid, r0, r1,
-                            reflectance_.data() + static_cast<std::ptrdiff_t>(r0) * cols);
+        float* rows_out = reflectance_.data() + static_cast<std::ptrdiff_t>(r0) * cols;
+        if (tile_ != nullptr) {
+          tile_->render_rows(grid, r0, r1, rows_out);
+        } else {
+          texture.render_rows(grid, r0, r1, rows_out);
+        }
       }
     });
 

@@ -8,6 +8,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "asphalt.hpp"
+#include "texture_tile.hpp"
 #include "gvs/drivers/sim/render_stats.hpp"
 #include "gvs/drivers/sim/scenario.hpp"
 #include "gvs/dsp/frame.hpp"
@@ -43,6 +44,10 @@ class ExposureRenderer {
   /// motion uses the pixel pitch instead of half of it; <= 0: never.
   void set_coarse_min_blur_px(double px) { coarse_min_blur_px_ = px; }
 
+  /// Take the texture from this tile (periodic, resampled) instead of
+  /// rendering it per frame; nullptr: render it (the default).
+  void set_tile(const TextureTile* tile) { tile_ = tile; }
+
   /// Raster coordinates of pixel (r, c) at one instant: j = j00 + r jr + c jc, same for i.
   struct Knot {
     double t_s;
@@ -59,6 +64,7 @@ class ExposureRenderer {
   std::vector<std::size_t> interval_begin_;  ///< first knot of each interval (+ end)
   ExposureStats stats_;
   double coarse_min_blur_px_ = 32.0;
+  const TextureTile* tile_ = nullptr;
   const AsphaltTexture* texture_id_ = nullptr;  ///< texture and grid of cells_
   RasterGrid last_grid_;
 };

@@ -65,10 +65,14 @@ struct Simulator::Impl {
       : config(c),
         period_s(c.seconds > 0.0 ? c.seconds : s.length_s),
         trajectory(std::move(s), period_s, c.loop),
-        texture(c.seed),
+        texture(make_texture(c)),
         sensor(c.sensor, c.camera, c.sensor_seed) {
     config.scenario = trajectory.scenario().name;
     renderer.set_coarse_min_blur_px(c.coarse_raster_min_blur_px);
+    if (texture.period_mm() > 0.0) {
+      tile = std::make_unique<sim::TextureTile>(texture, c.camera.mm_per_px / sim::ExposureRenderer::kSupersample);
+      renderer.set_tile(tile.get());
+    }
     plan.exposure_us = c.exposure_us;
     frames = static_cast<std::size_t>(std::floor(period_s * c.fps + 1e-9));
     calibrate();
@@ -158,11 +162,29 @@ struct Simulator::Impl {
     tr.yaw_rate_dps = v.yaw_rate_dps;
   }
 
+  /// Period of the texture: 0 (never repeats) unless periodic_texture asks
+  /// for one and its tile fits (at most 4096 samples a side; else the
+  /// texture is rendered per frame as for datasets).
+  static double texture_period_mm(const SimulatorConfig& c) {
+    if (!c.periodic_texture) return 0.0;
+    const double spacing = c.camera.mm_per_px / sim::ExposureRenderer::kSupersample;
+    const double period = sim::TextureTile::period_for_view(c.camera.width_px * c.camera.mm_per_px,
+                                                            c.camera.height_px * c.camera.mm_per_px, spacing);
+    return sim::TextureTile::side_for(period, spacing) <= 4096
+               ? period
+               : 0.0;
+  }
+  static sim::AsphaltTexture make_texture(const SimulatorConfig& c) {
+    const double period = texture_period_mm(c);
+    return period > 0.0 ? sim::AsphaltTexture(c.seed, period) : sim::AsphaltTexture(c.seed);
+  }
+
   SimulatorConfig config;
   double period_s;
   sim::Trajectory trajectory;
   sim::AsphaltTexture texture;
   sim::Sensor sensor;
+  std::unique_ptr<sim::TextureTile> tile;  ///< periodic_texture only
   sim::ExposureRenderer renderer;
   dsp::ExposurePlan plan;
   std::vector<sim::LightInterval> light;

@@ -48,14 +48,59 @@ bool streak_too_long(const VelocityEstimate& e) {
   return e.has_direction && !e.has_speed && std::string_view(e.method).starts_with("streak");
 }
 
+/// The frame had texture and (probably) motion, but no speed came out of it:
+/// a direction without speed, or no match at all ("no-match" is the
+/// estimator's word for texture without a measurable streak or pair shift;
+/// dark, saturated and textureless frames have their own words).
+bool moving_without_speed(const VelocityEstimate& e) {
+  return !e.has_speed && (e.has_direction || std::string_view(e.method) == "no-match");
+}
+
 bool is_still(const VelocityEstimate& e) {
   return e.has_speed && e.speed_mps < VelocityEstimate::kStandstillMps;
 }
 
-ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& current,
-                           const ExposureLimits& lim) {
-  const double t_cur = current.pulse_count == 0 ? current.exposure_us : current.lit_time_us();
+/// Light time of a plan: the exposure for continuous light, else the pulses.
+double lit_us(const ExposurePlan& p) { return p.pulse_count == 0 ? p.exposure_us : p.lit_time_us(); }
+
+/// Displacement limits scaled to a small frame: the double image can only be
+/// found up to ~0.45 of the shorter side (estimate_double), so the target
+/// keeps 100 px at 384 px and shrinks in proportion below (e.g. 50 px at 192).
+ExposureLimits fitted(const ExposureLimits& lim) {
+  ExposureLimits l = lim;
+  if (l.frame_short_side_px > 0.0) {
+    const double scale = std::min(1.0, l.frame_short_side_px / 384.0);
+    l.target_shift_px *= scale;
+    l.min_shift_px *= scale;
+    l.max_shift_px *= scale;
+  }
+  return l;
+}
+
+ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& frame,
+                           const ExposurePlan& current, const ExposureLimits& lim) {
+  const double t_cur = lit_us(current);
+  // Steps without a speed start from the light time of the frame that was
+  // measured, not from the plan: frames still in flight under an older plan
+  // then ask for the plan already made, instead of stepping again.
+  const double t_frame = lit_us(frame);
   if (is_still(latest)) return continuous(lim.max_exposure_us);
+  if (streak_too_long(latest)) {
+    // Direction without speed: the streak outgrew the frame. Shorten hard.
+    return continuous(std::clamp(t_frame / 4.0, lim.min_pulse_us, lim.max_exposure_us));
+  }
+  if (moving_without_speed(latest) && !latest.tracking && t_frame < lim.max_exposure_us * 0.99) {
+    // A shortened exposure that gives no speed: the streak may be still too
+    // long, too short, or too faint for the estimator's stricter start-up
+    // test (no earlier speed to search around). Step down an octave per frame
+    // and start again from the longest exposure below the shortest pulse:
+    // every octave is visited, and one of them puts the streak in the
+    // measurable band. At the longest exposure a short streak means a slow
+    // car (the frame pairs measure it), so the plan is held there; and a
+    // miss while the estimator still tracks a recent speed holds it too.
+    const double t_next = t_frame / 2.0;
+    return continuous(t_next < lim.min_pulse_us ? lim.max_exposure_us : t_next);
+  }
   if (latest.quality < lim.min_quality) return current;
   if (latest.has_speed) {
     const double v = px_per_us(latest.speed_mps, lim);
@@ -68,18 +113,13 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& c
     const double t_new = lim.target_streak_px / std::max(v, 1e-12);
     return continuous(std::clamp(t_new, lim.min_pulse_us, lim.max_exposure_us));
   }
-  if (streak_too_long(latest)) {
-    // Direction without speed: the streak outgrew the frame. Shorten hard.
-    return continuous(std::clamp(t_cur / 4.0, lim.min_pulse_us, lim.max_exposure_us));
-  }
   return current;
 }
 
-ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePlan& current,
-                               const ExposureLimits& lim) {
+ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePlan& frame,
+                               const ExposurePlan& current, const ExposureLimits& lim) {
   if (is_still(latest)) return continuous(lim.max_exposure_us);
-  if (latest.quality < lim.min_quality) return current;
-  if (latest.has_speed) {
+  if (latest.has_speed && latest.quality >= lim.min_quality) {
     if (latest.speed_mps < lim.double_pulse_min_speed_mps) {
       return continuous(lim.max_exposure_us);
     }
@@ -96,32 +136,42 @@ ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePla
     }
     return double_pulse_plan(lim.target_shift_px / v, pulse_us, lim);
   }
-  if (streak_too_long(latest) || (latest.has_direction && !latest.has_speed && current.pulse_count >= 2)) {
+  if (streak_too_long(latest) || (moving_without_speed(latest) && frame.pulse_count >= 2)) {
     // Direction without speed: streak or displacement too long.
-    if (current.pulse_count >= 2) {
-      return double_pulse_plan(pulse_separation_us(current) / 3.0, current.pulses[0].duration_us,
-                               lim);
-    }
     const double v_guess = px_per_us(30.0, lim);  // assume fast: 108 km/h
-    return double_pulse_plan(lim.target_shift_px / v_guess,
-                             std::max(lim.min_pulse_us, lim.max_pulse_blur_px / v_guess), lim);
+    const ExposurePlan restart = double_pulse_plan(
+        lim.target_shift_px / v_guess, std::max(lim.min_pulse_us, lim.max_pulse_blur_px / v_guess), lim);
+    if (frame.pulse_count >= 2) {
+      // Shorter separation, from the measured frame's (in-flight frames
+      // repeat the plan already made); when it cannot shrink any more, start
+      // again from the fast guess.
+      const double sep = pulse_separation_us(frame) / 3.0;
+      if (sep < 2.0 * frame.pulses[0].duration_us) return restart;
+      return double_pulse_plan(sep, frame.pulses[0].duration_us, lim);
+    }
+    return restart;
   }
   return current;
 }
 
 }  // namespace
 
-ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& current,
-                           ExposureMode mode, const ExposureLimits& limits) {
+ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& frame,
+                           const ExposurePlan& current, ExposureMode mode, const ExposureLimits& limits) {
   switch (mode) {
     case ExposureMode::fixed:
       return current;
     case ExposureMode::adaptive:
-      return next_adaptive(latest, current, limits);
+      return next_adaptive(latest, frame, current, limits);
     case ExposureMode::double_pulse:
-      return next_double_pulse(latest, current, limits);
+      return next_double_pulse(latest, frame, current, fitted(limits));
   }
   return current;
+}
+
+ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& current,
+                           ExposureMode mode, const ExposureLimits& limits) {
+  return next_exposure(latest, current, current, mode, limits);
 }
 
 bool parse_exposure_mode(const char* text, ExposureMode& mode) {

@@ -145,6 +145,8 @@ VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
   const bool fast = e.quality > 0.0 && e.has_direction &&
                     (e.method != std::string_view("pair") && e.method != std::string_view("still"));
   if (fast && (!e.has_speed || e.speed_mps > 2.0)) learn_column_pattern(frame.gray, stats.mean_grey);
+  e.tracking = has_last_speed_ && t_mid > last_speed_t_ns_ &&
+               static_cast<double>(t_mid - last_speed_t_ns_) * 1e-9 <= set_.speed_memory_s;
   remember(frame, t_mid, e);
   return e;
 }

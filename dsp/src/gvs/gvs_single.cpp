@@ -55,8 +55,10 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   double min_significance = set_.min_streak_significance;
   const std::int64_t age = frame.index - last_speed_index_;
   double min_length = set_.min_streak_px;
-  if (has_last_speed_ && age >= 1 && age <= 3) {
-    const double age_s = static_cast<double>(t_mid_ns - last_speed_t_ns_) * 1e-9;
+  const double age_s = static_cast<double>(t_mid_ns - last_speed_t_ns_) * 1e-9;
+  // Recent by time, not by frame count: gvsd skips frames when processing
+  // falls behind, and a skipped frame does not make the speed less known.
+  if (has_last_speed_ && age >= 1 && age_s <= set_.speed_memory_s) {
     const double slack_mps = set_.max_accel_mps2 * age_s;
     const double v_lo = std::max(0.0, 0.85 * last_speed_mps_ - slack_mps);
     const double v_hi = 1.15 * last_speed_mps_ + slack_mps;

@@ -55,7 +55,7 @@ struct DaemonConfig {
   std::string estimator_method = "gvs";
 
   // [exposure] (reloadable; see dsp/exposure_control.hpp)
-  std::string exposure_mode = "adaptive";  ///< fixed | adaptive | double-pulse
+  std::string exposure_mode = "double-pulse";  ///< fixed | adaptive | double-pulse
   double exposure_initial_us = 3000.0;
   double exposure_max_us = 3000.0;     ///< longest continuous exposure
   double exposure_min_pulse_us = 2.0;  ///< shortest LED pulse

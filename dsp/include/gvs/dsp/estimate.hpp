@@ -23,6 +23,10 @@ struct VelocityEstimate {
   double yaw_rate_dps = 0.0;   ///< CCW from above
 
   double quality = 0.0;  ///< [0, 1]; 0 = nothing measured
+  /// The estimator had measured a speed shortly before this frame (and looked
+  /// for this frame's speed near it). Without it, a missing speed is a
+  /// start-up miss: the exposure controller then searches the exposures.
+  bool tracking = false;
   /// Short lowercase word: the estimator that produced the row, or why there
   /// is no estimate ("dark", "saturated", "no-texture", ...). Always a string
   /// literal with static storage, so copying an estimate never allocates.

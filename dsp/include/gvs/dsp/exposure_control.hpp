@@ -40,24 +40,42 @@ struct ExposureLimits {
   /// Below this speed double_pulse mode uses a continuous max_exposure_us
   /// exposure instead (consecutive frames overlap and pair correlation wins).
   double double_pulse_min_speed_mps = 1.5;
+  /// Shorter side of the frame (px); 0 = not given. Below 384 px the
+  /// displacement band (target, min, max shift) shrinks in proportion: the
+  /// estimator finds a double image only up to ~0.45 of this side.
+  double frame_short_side_px = 0.0;
   /// Estimates below this quality do not change the plan.
   double min_quality = 0.3;
 };
 
-/// The plan for the next frame.
+/// The plan for the next frame, from the estimate of the frame just measured
+/// (`frame`: the light it was actually taken with) and the plan in force
+/// (`current`: the last one returned; frames still in flight may predate it).
 ///  - fixed: returns `current`.
 ///  - adaptive: continuous exposure (pulse_count 0) of T = target_streak_px*s/v,
 ///    clamped to [min_pulse_us, max_exposure_us]; unchanged while the streak
 ///    predicted for `current` stays within [min_streak_px, max_streak_px].
-///    A direction without speed from a streak too long to measure (method
-///    "streak-*") shortens T by 4x.
+///    Without a speed: a streak too long to measure (method "streak-*")
+///    gives T_frame/4; any other moving frame below max_exposure_us, when
+///    the estimator is not `tracking` a recent speed (a start-up miss), gives
+///    T_frame/2, and below min_pulse_us max_exposure_us again (a sweep over
+///    the octaves that cannot lock up on a streak the estimator will not
+///    measure without an earlier speed). Steps start from the frame's light
+///    time, so frames in flight under an older plan repeat the plan made.
 ///  - double_pulse: two pulses {0, p} and {dt, p*second_pulse_energy}, dt =
 ///    target_shift_px*s/v, p = max_pulse_blur_px*s/v (>= min_pulse_us);
 ///    unchanged while the predicted displacement stays within
-///    [min_shift_px, max_shift_px]; below double_pulse_min_speed_mps a
-///    continuous max_exposure_us exposure.
-/// A standstill returns to a continuous max_exposure_us exposure; without a
-/// usable estimate (quality 0, no speed, no direction) the plan is kept.
+///    [min_shift_px, max_shift_px] (scaled to frame_short_side_px); below
+///    double_pulse_min_speed_mps a continuous max_exposure_us exposure.
+///    Without a speed the separation shrinks 3x per frame, and restarts
+///    from a 30 m/s guess when it cannot shrink further.
+/// A standstill returns to a continuous max_exposure_us exposure; a dark,
+/// saturated or textureless frame keeps the plan, and so does a speed of
+/// quality below min_quality.
+ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& frame,
+                           const ExposurePlan& current, ExposureMode mode, const ExposureLimits& limits);
+
+/// The same, for a frame taken with `current` itself (no plan in flight).
 ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& current,
                            ExposureMode mode, const ExposureLimits& limits);
 

@@ -52,6 +52,7 @@ struct GvsEstimatorSettings {
   double refine_sigma = 0.05;        ///< rad/px, half-width of the line used
   double min_streak_px = 20.0;       ///< shorter streaks: length not measured (texture grain biases it)
   double min_streak_px_cold = 30.0;  ///< ... without a recent speed
+  double speed_memory_s = 0.055;     ///< a speed this recent is "recent": 3 frames at 60 fps (by time: frames may be skipped)
   double max_streak_background = 0.07;
   double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
   double min_streak_depth = 0.06;
