@@ -67,9 +67,7 @@ inline RunScore run_and_score(const drivers::SimulatorConfig& config, dsp::Expos
   ec.method = "gvs";
   ec.camera = config.camera;
   dsp::GvsEstimator est(ec);
-  dsp::ExposureLimits limits;
-  limits.mm_per_px = config.camera.mm_per_px;
-  limits.frame_period_us = 1e6 / config.fps;
+  const dsp::ExposureLimits limits = dsp::exposure_limits_for(config.camera, config.fps);
   dsp::ExposurePlan plan;
   plan.exposure_us = config.exposure_us;
   RunScore score;

@@ -1,5 +1,4 @@
 // gvs sim: writes a simulated run as a gvs-dataset/1 folder, truth included.
-#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -48,10 +47,8 @@ void run_sim(const SimOptions& o) {
     pc.estimator.method = o.loop_method;
     pc.estimator.camera = config.camera;
     loop = std::make_unique<daemon::FrameProcessor>(pc);
-    limits.mm_per_px = config.camera.mm_per_px;
-    limits.frame_period_us = 1e6 / config.fps;
+    limits = dsp::exposure_limits_for(config.camera, config.fps);
     limits.max_exposure_us = config.exposure_us;
-    limits.frame_short_side_px = std::min(config.camera.width_px, config.camera.height_px);
   }
 
   drivers::SimFrame frame;

@@ -80,17 +80,13 @@ void Pipeline::apply_reloadable(const DaemonConfig& c) noexcept {
   // continuously, so it gets the single-exposure controller instead.
   if (s.mode == dsp::ExposureMode::double_pulse && !light_ && !source_->frames_carry_light())
     s.mode = dsp::ExposureMode::adaptive;
-  const dsp::CameraGeometry g = source_->geometry();
-  s.limits.mm_per_px = g.mm_per_px;
-  const double fps = source_->nominal_fps();
-  if (fps > 0.0) s.limits.frame_period_us = 1e6 / fps;
+  s.limits = dsp::exposure_limits_for(source_->geometry(), source_->nominal_fps());
   s.limits.max_exposure_us = c.exposure_max_us;
   s.limits.min_pulse_us = c.exposure_min_pulse_us;
   // A camera without a strobe cannot expose shorter than its own floor: the
   // controller's sweep must turn round there, not below it.
   if (!light_ && !source_->frames_carry_light())
     s.limits.min_pulse_us = std::max(s.limits.min_pulse_us, c.libcamera_exposure_min_us);
-  s.limits.frame_short_side_px = std::min(g.width_px, g.height_px);
   exposure_settings_.write(s);
 }
 

@@ -163,6 +163,25 @@ inline float lattice_value(std::uint32_t key, std::uint32_t ix, std::uint32_t iy
   return static_cast<float>(static_cast<std::int32_t>(h >> 8)) * 0x1.0p-23f - 1.0f;
 }
 
+/// Smoothstep-weighted bilinear blend of four lattice values (value noise).
+inline float smooth_blend(float v00, float v10, float v01, float v11, float tx, float ty) {
+  const float sx = tx * tx * (3.0f - 2.0f * tx);
+  const float sy = ty * ty * (3.0f - 2.0f * ty);
+  const float a = v00 + (v10 - v00) * sx;
+  const float b = v01 + (v11 - v01) * sx;
+  return a + (b - a) * sy;
+}
+
+/// A stamped sample `v` (< 0: still bare binder) with the fine (nf) and
+/// medium (nm) grain: strong grain on the binder, a weak speckle on stones.
+/// Branch-free, so that the row loop vectorises.
+inline float with_grain(float v, float nf, float nm) {
+  const float binder = AsphaltTexture::kBitumen * (1.0f + 0.5f * nf + 0.3f * nm);
+  const float stone = v * (1.0f + 0.18f * nf + 0.06f * nm);
+  const float is_binder = static_cast<float>(v < 0.0f);
+  return stone + is_binder * (binder - stone);
+}
+
 /// Smooth value noise at lattice position (base + f) where f is a small
 /// float offset (branch-free, vectorisable).
 inline float value_noise_at(std::uint32_t key, std::uint32_t bx, std::uint32_t by, float fx,
@@ -175,15 +194,8 @@ inline float value_noise_at(std::uint32_t key, std::uint32_t bx, std::uint32_t b
   const float ty = fy - static_cast<float>(iy);
   const std::uint32_t x0 = bx + static_cast<std::uint32_t>(ix);
   const std::uint32_t y0 = by + static_cast<std::uint32_t>(iy);
-  const float v00 = lattice_value(key, x0, y0);
-  const float v10 = lattice_value(key, x0 + 1u, y0);
-  const float v01 = lattice_value(key, x0, y0 + 1u);
-  const float v11 = lattice_value(key, x0 + 1u, y0 + 1u);
-  const float sx = tx * tx * (3.0f - 2.0f * tx);
-  const float sy = ty * ty * (3.0f - 2.0f * ty);
-  const float a = v00 + (v10 - v00) * sx;
-  const float b = v01 + (v11 - v01) * sx;
-  return a + (b - a) * sy;
+  return smooth_blend(lattice_value(key, x0, y0), lattice_value(key, x0 + 1u, y0), lattice_value(key, x0, y0 + 1u),
+                      lattice_value(key, x0 + 1u, y0 + 1u), tx, ty);
 }
 
 /// Integer lattice base and float offset of a world coordinate (mm).
@@ -225,11 +237,7 @@ void AsphaltTexture::add_grain(const RasterGrid& grid, int row_begin, int row_en
       const auto fc = static_cast<float>(c);
       const float nf = value_noise_at(key_fine, bfx, bfy, ofx + fc * sfx, ofy + fc * sfy);
       const float nm = value_noise_at(key_medium, bmx, bmy, omx + fc * smx, omy + fc * smy);
-      const float v = row[c];
-      const float binder = kBitumen * (1.0f + 0.5f * nf + 0.3f * nm);
-      const float stone = v * (1.0f + 0.18f * nf + 0.06f * nm);
-      const float is_binder = static_cast<float>(v < 0.0f);
-      row[c] = stone + is_binder * (binder - stone);
+      row[c] = with_grain(row[c], nf, nm);
     }
   }
 }
@@ -252,14 +260,8 @@ void AsphaltTexture::add_grain_periodic(const RasterGrid& grid, int row_begin, i
       return static_cast<std::uint32_t>(k < 0 ? k + n : k);
     };
     const std::uint32_t x0 = wrapped(gx), x1 = wrapped(gx + 1), y0 = wrapped(gy), y1 = wrapped(gy + 1);
-    auto v = [&](std::uint32_t a, std::uint32_t b) { return lattice_value(key, a, b); };
-    const auto tx = static_cast<float>(fx - gx);
-    const auto ty = static_cast<float>(fy - gy);
-    const float sx = tx * tx * (3.0f - 2.0f * tx);
-    const float sy = ty * ty * (3.0f - 2.0f * ty);
-    const float a = v(x0, y0) + (v(x1, y0) - v(x0, y0)) * sx;
-    const float b = v(x0, y1) + (v(x1, y1) - v(x0, y1)) * sx;
-    return a + (b - a) * sy;
+    return smooth_blend(lattice_value(key, x0, y0), lattice_value(key, x1, y0), lattice_value(key, x0, y1),
+                        lattice_value(key, x1, y1), static_cast<float>(fx - gx), static_cast<float>(fy - gy));
   };
   for (int r = row_begin; r < row_end; ++r) {
     float* row = out + static_cast<std::ptrdiff_t>(r - row_begin) * grid.cols;
@@ -268,10 +270,7 @@ void AsphaltTexture::add_grain_periodic(const RasterGrid& grid, int row_begin, i
       grid.to_world(c, r, x, y);
       const float nf = noise(key_fine, x, y, kFineLatticeMm, n_fine);
       const float nm = noise(key_medium, x, y, kMediumLatticeMm, n_medium);
-      const float v = row[c];
-      const float binder = kBitumen * (1.0f + 0.5f * nf + 0.3f * nm);
-      const float stone = v * (1.0f + 0.18f * nf + 0.06f * nm);
-      row[c] = v < 0.0f ? binder : stone;
+      row[c] = with_grain(row[c], nf, nm);
     }
   }
 }

@@ -27,7 +27,7 @@ class TextureTile {
 
   /// Period for a view `width_mm` x `height_mm` sampled at `spacing_mm`: a
   /// multiple of 36 mm, at least 1.5 times the view's longest side (no frame
-  /// sees a repeat) and at most 3 times, chosen so that period / spacing is
+  /// sees a repeat: P_min, rounded up to 36 mm) and at most 2 P_min, chosen so that period / spacing is
   /// nearest to a power of two (the tile's spacing then stays within a few
   /// per cent of the one asked for).
   static double period_for_view(double width_mm, double height_mm, double spacing_mm);

@@ -156,6 +156,14 @@ ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePla
 
 }  // namespace
 
+ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps) {
+  ExposureLimits l;
+  l.mm_per_px = camera.mm_per_px;
+  if (fps > 0.0) l.frame_period_us = 1e6 / fps;
+  l.frame_short_side_px = std::min(camera.width_px, camera.height_px);
+  return l;
+}
+
 ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& frame,
                            const ExposurePlan& current, ExposureMode mode, const ExposureLimits& limits) {
   switch (mode) {

@@ -48,6 +48,11 @@ struct ExposureLimits {
   double min_quality = 0.3;
 };
 
+/// The limits that follow from the camera: ground sampling (mm_per_px),
+/// frame period (1/fps; fps <= 0 keeps the default) and the frame's shorter
+/// side; everything else at its default.
+ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
+
 /// The plan for the next frame, from the estimate of the frame just measured
 /// (`frame`: the light it was actually taken with) and the plan in force
 /// (`current`: the last one returned; frames still in flight may predate it).
