@@ -70,6 +70,28 @@ TEST(ExposureControl, AdaptiveShortensWhenTheStreakIsTooLongToMeasure) {
   EXPECT_EQ(next_exposure(direction_only("blur-cont"), current, ExposureMode::adaptive, {}).exposure_us, 3000.0);
 }
 
+TEST(ExposureControl, AdaptiveLengthensWhenTheStreakIsTooShortForADirection) {
+  const ExposureLimits lim;
+  const VelocityEstimate short_streak = no_estimate(0, 0, "short-streak");
+  // x4 per frame from the measured frame's light time, up to the longest exposure.
+  EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(5.0), ExposureMode::adaptive, lim).exposure_us, 20.0);
+  EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(1000.0), ExposureMode::adaptive, lim).exposure_us,
+                   lim.max_exposure_us);
+  // Already at the longest exposure: a slow car (the frame pairs measure it).
+  EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
+                   3000.0);
+}
+
+TEST(ExposureControl, AdaptiveHoldsOnOneTooLongStreakWhileTrackingASpeed) {
+  // A streak in the band (70 px at 31.8 m/s and 220 us) read once as "too
+  // long" while the last frames measured the speed: a miss, not a change.
+  VelocityEstimate miss = direction_only("streak-cont");
+  miss.tracking = true;
+  EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 220.0);
+  miss.tracking = false;
+  EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 55.0);
+}
+
 // The lock-up seen in gvsd (docs/accuracy.md): after 3000 -> 750 us the
 // estimator gave a direction without speed ("blur-*": the start-up test for a
 // streak end not met) and the plan stayed at 750 us for good. Now every

@@ -48,6 +48,9 @@ bool streak_too_long(const VelocityEstimate& e) {
   return e.has_direction && !e.has_speed && std::string_view(e.method).starts_with("streak");
 }
 
+/// The estimator saw a streak too short to carry even a direction.
+bool streak_too_short(const VelocityEstimate& e) { return std::string_view(e.method) == "short-streak"; }
+
 /// The frame had texture and (probably) motion, but no speed came out of it:
 /// a direction without speed, or no match at all ("no-match" is the
 /// estimator's word for texture without a measurable streak or pair shift;
@@ -85,9 +88,16 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
   // then ask for the plan already made, instead of stepping again.
   const double t_frame = lit_us(frame);
   if (is_still(latest)) return continuous(lim.max_exposure_us);
-  if (streak_too_long(latest)) {
+  if (streak_too_long(latest) && !latest.tracking) {
     // Direction without speed: the streak outgrew the frame. Shorten hard.
+    // (While a speed from the last few frames says the streak is in the
+    // band, one such frame is a miss, not a change: hold.)
     return continuous(std::clamp(t_frame / 4.0, lim.min_pulse_us, lim.max_exposure_us));
+  }
+  if (streak_too_short(latest) && t_frame < lim.max_exposure_us * 0.99) {
+    // No direction: a streak of a few pixels. Lengthen hard (x4 against the
+    // /4 above: a 15 px streak lands at 60 px, inside the band).
+    return continuous(std::clamp(t_frame * 4.0, lim.min_pulse_us, lim.max_exposure_us));
   }
   if (moving_without_speed(latest) && !latest.tracking && t_frame < lim.max_exposure_us * 0.99) {
     // A shortened exposure that gives no speed: the streak may be still too

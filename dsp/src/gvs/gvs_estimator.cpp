@@ -163,28 +163,44 @@ void GvsEstimator::update_mode(double dt_s) {
 bool GvsEstimator::is_still(const cv::Mat& gray, double& ratio) const {
   // ratio = mean((g1 - k g0)^2) / (2 var(g1)), k = mean1/mean0 (exposure may change).
   // Identical texture: only temporal noise is left (fixed-pattern noise cancels).
+  //
+  // But a frame that is only fixed-pattern noise (texture smeared flat by a
+  // streak much longer than the frame, e.g. under-exposed at speed) repeats
+  // too. The asphalt seen through the lens is smooth over neighbouring pixels
+  // in both directions; the sensor's pattern is not (pixel offsets are white,
+  // column offsets are smooth only down a column). So the frame must also be
+  // correlated with its right and its lower neighbour:
+  //   rho = cov(g(r,c), g(r,c+1)) / var(g), the same for (r+1,c); min >= still_min_neighbour_corr.
   const double k = prev_mean_grey_ > 0.0 ? cur_mean_grey_ / prev_mean_grey_ : 1.0;
   double diff_sq = 0.0;
   double sum = 0.0;
   double sum_sq = 0.0;
+  double sum_right = 0.0;  // sum of g(r,c) g(r,c+1)
+  double sum_down = 0.0;   // sum of g(r,c) g(r+1,c)
   std::int64_t n = 0;
-  for (int r = 0; r < gray.rows; r += 2) {
+  for (int r = 0; r + 1 < gray.rows; r += 2) {
     const auto* g1 = gray.ptr<std::uint8_t>(r);
+    const auto* below = gray.ptr<std::uint8_t>(r + 1);
     const auto* g0 = prev_gray_.ptr<std::uint8_t>(r);
-    for (int c = 0; c < gray.cols; c += 2) {
+    for (int c = 0; c + 1 < gray.cols; c += 2) {
       const double a = g1[c];
       const double d = a - k * g0[c];
       diff_sq += d * d;
       sum += a;
       sum_sq += a * a;
+      sum_right += a * g1[c + 1];
+      sum_down += a * below[c];
       ++n;
     }
   }
   const double nn = static_cast<double>(n);
-  const double var = sum_sq / nn - (sum / nn) * (sum / nn);
+  const double mean = sum / nn;
+  const double var = sum_sq / nn - mean * mean;
   if (var <= 0.0) return false;
   ratio = diff_sq / nn / (2.0 * var);
-  return ratio < set_.still_ratio;
+  const double rho_right = (sum_right / nn - mean * mean) / var;
+  const double rho_down = (sum_down / nn - mean * mean) / var;
+  return ratio < set_.still_ratio && std::min(rho_right, rho_down) >= set_.still_min_neighbour_corr;
 }
 
 GvsEstimator::SignSource GvsEstimator::resolve_sign(Vec2 axis, std::int64_t t_mid_ns,

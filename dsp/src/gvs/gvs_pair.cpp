@@ -90,7 +90,7 @@ VelocityEstimate GvsEstimator::estimate_pair(const FrameView& frame, std::int64_
   Vec2 dv{0.0, 0.0};
   if (last_pair_valid_) {
     dv = {0.5 * (v_pair.x - last_pair_v_.x), 0.5 * (v_pair.y - last_pair_v_.y)};
-  } else if (last_valid_ && last_.has_speed && last_.quality >= 0.8 &&
+  } else if (last_valid_ && last_.has_speed && last_.quality >= 0.3 &&
              last_.index == frame.index - 1) {
     dv = {v_pair.x - last_.vx_mps, v_pair.y - last_.vy_mps};
   }

@@ -36,7 +36,12 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
     e.method = "no-texture";
     return e;
   }
-  if (axis.anisotropy < set_.min_anisotropy) return e;
+  if (axis.anisotropy < set_.min_anisotropy) {
+    // Nearly isotropic: no blur, or a streak of a few pixels, whose axis is
+    // the texture's own random anisotropy. No direction rather than a wrong one.
+    e.method = "short-streak";
+    return e;
+  }
   if (axis.anisotropy >= set_.refine_min_anisotropy) {
     axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2);
   }
@@ -49,12 +54,13 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   // Where to look for the streak end: around L = v T / s from the last
   // measured speed (up to 10 frames old, widened for +-max_accel), because the
   // texture's own grain can mimic a streak end; everywhere, with a stricter
-  // significance, without a recent speed.
+  // significance and background, without a recent speed.
   double lo = set_.min_streak_px;
   double hi = max_px;
   double min_significance = set_.min_streak_significance;
   const std::int64_t age = frame.index - last_speed_index_;
   double min_length = set_.min_streak_px;
+  double max_background = set_.max_streak_background_tracked;
   const double age_s = static_cast<double>(t_mid_ns - last_speed_t_ns_) * 1e-9;
   // Recent by time, not by frame count: gvsd skips frames when processing
   // falls behind, and a skipped frame does not make the speed less known.
@@ -67,6 +73,7 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   } else {
     min_significance = set_.min_streak_significance_cold;
     min_length = set_.min_streak_px_cold;
+    max_background = set_.max_streak_background;
   }
   StreakLength len;
   if (hi > lo + 2.0) len = blur_.streak_length(spec_full_, axis, lo, hi);
@@ -77,7 +84,8 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   const bool consistent = !cold || axis.anisotropy < 0.93 + 0.0003 * len.length_px;
   const bool has_speed = consistent && len.found && len.depth >= set_.min_streak_depth &&
                          len.significance >= min_significance &&
-                         len.background <= set_.max_streak_background &&
+                         len.background <= max_background &&
+                         axis.texture_snr >= set_.min_speed_texture_snr &&
                          len.length_px >= min_length && len.length_px > lo + 0.5 &&
                          len.length_px < hi - 0.5;
 
@@ -108,7 +116,10 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   const double q_len = has_speed ? std::clamp(len.depth / 0.25, 0.05, 1.0) : 1.0;
   // Texture power over sensor noise: under-exposed long streaks leave little
   // texture, and the column pattern of the sensor then pulls the axis.
-  const double q_snr = std::clamp(axis.texture_snr / set_.good_texture_snr, 0.02, 1.0);
+  // Measured: 5-14 deg RMS at SNR 1-3, 1-3 deg at 4-8, 0.1-0.4 deg from 10:
+  // the quality falls with the square of the SNR below good_texture_snr.
+  const double snr_ratio = std::min(axis.texture_snr / set_.good_texture_snr, 1.0);
+  const double q_snr = std::max(snr_ratio * snr_ratio, 0.001);
   e.quality = q_dir * q_len * q_snr * sign_quality(source);
   const bool too_long = !has_speed && axis.anisotropy >= set_.long_streak_anisotropy;
   e.method = method_name(too_long ? kLongNames : kNames, source);

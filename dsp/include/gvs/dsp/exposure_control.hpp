@@ -61,7 +61,9 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    clamped to [min_pulse_us, max_exposure_us]; unchanged while the streak
 ///    predicted for `current` stays within [min_streak_px, max_streak_px].
 ///    Without a speed: a streak too long to measure (method "streak-*")
-///    gives T_frame/4; any other moving frame below max_exposure_us, when
+///    gives T_frame/4 unless the estimator is still `tracking` a recent
+///    speed (then one such frame is a miss: hold); a streak too short for
+///    a direction ("short-streak") gives 4 T_frame; any other moving frame below max_exposure_us, when
 ///    the estimator is not `tracking` a recent speed (a start-up miss), gives
 ///    T_frame/2, and below min_pulse_us max_exposure_us again (a sweep over
 ///    the octaves that cannot lock up on a streak the estimator will not

@@ -9,6 +9,8 @@
 //               the streak fits in the frame, its length (derivative
 //               autocorrelation) -> direction up to sign, and speed
 //   streak-*    as blur-*, but the streak is too long to measure: direction only
+//   short-streak one frame whose streak is too short to carry a direction
+//               (quality 0; the exposure controller lengthens the exposure)
 //   dpiv-*      double-pulse frame: displacement between the two images
 //               (autocorrelation side peak) -> velocity up to sign
 // The suffix says what decided the sign: -cont (continuity with the previous
@@ -33,6 +35,9 @@ struct GvsEstimatorSettings {
   FrameCheckLimits frame_check;
   // Standstill: mean squared frame difference over twice the frame variance.
   double still_ratio = 0.12;
+  /// ... and the frame must hold texture, not only the sensor's fixed
+  /// pattern: neighbouring pixels correlated at least this much (is_still).
+  double still_min_neighbour_corr = 0.3;
   // Pair <-> single-frame switching on the expected shift between frames (px),
   // with hysteresis: leave pair mode above the first, come back below the second.
   double pair_leave_shift_px = 185.0;
@@ -43,9 +48,13 @@ struct GvsEstimatorSettings {
   double pair_min_quality = 0.3;     ///< below: the pair is not used
   double max_accel_mps2 = 20.0;      ///< clamp of the half-frame lag compensation
   // Single-frame blur.
-  double min_anisotropy = 0.12;      ///< below: no streak axis
+  /// Below: the streak is too short to carry a direction ("short-streak",
+  /// quality 0). On asphalt at 0.1 mm/px the spectrum reaches 0.6 at a
+  /// ~15 px streak; below it the direction error grows past 2-20 deg
+  /// (docs/estimator.md, "Short streaks").
+  double min_anisotropy = 0.6;
   double min_texture_snr = 0.3;      ///< band power above the noise floor over the noise: below, "no-texture"
-  double good_texture_snr = 5.0;     ///< full quality from here (normal light: 20-70)
+  double good_texture_snr = 10.0;    ///< full quality from here (normal light: 10-70)
   double refine_min_anisotropy = 0.9; ///< long streaks: refine the axis on the spectral line
   double axis_from_streak_end_px = 20.0; ///< use the streak-end lag as the axis from this length
   double long_streak_anisotropy = 0.96;///< no speed and above: "streak-*" (too long), else "blur-*"
@@ -53,7 +62,11 @@ struct GvsEstimatorSettings {
   double min_streak_px = 20.0;       ///< shorter streaks: length not measured (texture grain biases it)
   double min_streak_px_cold = 30.0;  ///< ... without a recent speed
   double speed_memory_s = 0.055;     ///< a speed this recent is "recent": 3 frames at 60 fps (by time: frames may be skipped)
-  double max_streak_background = 0.07;
+  double max_streak_background = 0.07;          ///< typical |A| off the streak end over A(0), no recent speed
+  double max_streak_background_tracked = 0.13;  ///< ... searching around a recent speed (narrow window)
+  /// Texture power over noise needed for a speed from a streak: below ~4
+  /// (under-exposed long streaks) the streak end is found 10-60 % short.
+  double min_speed_texture_snr = 4.0;
   double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
   double min_streak_depth = 0.06;
   double min_streak_significance = 3.5;       ///< streak end over the ray's RMS
