@@ -64,15 +64,16 @@ TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
 
 TEST(GvsAccuracy, AdaptiveStrobeAt60KmhClosedLoop) {
   // Issue targets here (speed 1 % RMS on >= 99 % of frames, direction
-  // 0.3 / 1.0 deg) are NOT yet met (docs/estimator.md has the figures); this
-  // asserts what must hold already: no wrong speed, no sign error.
+  // 0.3 / 1.0 deg) are NOT yet met above 60 km/h (docs/estimator.md has the
+  // figures); this asserts what holds already: speed on >= 95 % of frames
+  // (was 0-80 % before "short-streak"), never off by 5 %, no sign error.
   const RunScore s = run_and_score(run("sine", 1.7), ExposureMode::adaptive, 0.2);
   print_score("sine adaptive 1.7 s", s);
   const BandScore& b = band(s, 3);
   ASSERT_GT(b.frames, 70);
   EXPECT_GE(b.dir_coverage(), 0.99);
-  EXPECT_LE(b.dir_max, 2.0);
-  EXPECT_GE(b.speed_coverage(), 0.7);
+  EXPECT_LE(b.dir_max, 1.5);
+  EXPECT_GE(b.speed_coverage(), 0.95);
   EXPECT_LE(b.speed_max, 0.05);
 }
 
@@ -97,6 +98,22 @@ TEST(GvsAccuracy, OverExposedFramesKeepTheDirection) {
   EXPECT_LE(b.dir_rms(), 0.3);  // issue: 0.2 (not yet met, docs/estimator.md)
   EXPECT_LE(b.dir_max, 1.0);
   EXPECT_LE(b.speed_max, 0.05);
+}
+
+TEST(GvsAccuracy, OverExposedSpinHasNoFalseStreakEnd) {
+  // Reversing at 1.5 m/s under 3 ms, 15 % of pixels saturated: the texture
+  // grain gave a second "streak end" at 29-31 px beside the true 45 px, as
+  // deep, and it was taken twice (speed 36 % low at quality 0.8). With a
+  // recent speed, of two ends nearly as deep the one nearer to it wins.
+  drivers::SimulatorConfig c = run("spin", 4.5, drivers::LightLevel::over);
+  c.seed = 1;  // the seed of docs/estimator.md, where it was seen
+  const RunScore s = run_and_score(c, ExposureMode::fixed);
+  print_score("spin fixed over-exposed 4.5 s", s);
+  const BandScore& b = band(s, 1);  // 5-15 km/h
+  ASSERT_GT(b.frames, 60);
+  EXPECT_GE(b.speed_coverage(), 0.6);
+  EXPECT_LE(b.speed_max, 0.05);
+  EXPECT_EQ(s.confident_bad, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedLongStreaksAreFlaggedNotTrusted) {

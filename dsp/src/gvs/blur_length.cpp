@@ -27,7 +27,7 @@ constexpr double kAxialRollOff = 1.0 / (2.0 * 0.6 * 0.6);  // exp(-(k.u)^2 / (2 
 }  // namespace
 
 StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAxis& axis,
-                                         double min_px, double max_px) {
+                                         double min_px, double max_px, double expected_px) {
   StreakLength out;
   const double n0 = noise_floor(spectrum);
   for (int r = 0; r < spectrum.rows; ++r) {
@@ -55,14 +55,34 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
   // Deepest point of A along the ray t*u, t in [min, max] (half a pixel steps).
   double best = 1e30;
   double best_t = 0.0;
-  for (double t = min_px; t <= max_px; t += 0.5) {
+  std::size_t n_ray = 0;
+  for (double t = min_px; t <= max_px && n_ray < ray_.size(); t += 0.5) {
     const double v = detail::sample_lag(surface_, t * axis.u_row, t * axis.u_col);
+    ray_[n_ray++] = v;
     if (v < best) {
       best = v;
       best_t = t;
     }
   }
   if (best >= 0.0) return out;
+  // Two streak ends nearly as deep (texture grain can make a second one):
+  // with an expected length, take the local minimum nearest to it among
+  // those at least 85 % as deep as the deepest and at least 4 px from it
+  // (a distinct end, not a ripple of the same one).
+  if (expected_px > 0.0) {
+    const double deepest = best;
+    const double deepest_t = best_t;
+    for (std::size_t i = 1; i + 1 < n_ray; ++i) {
+      const double v = ray_[i];
+      const double t = min_px + 0.5 * static_cast<double>(i);
+      const bool local_min = v <= ray_[i - 1] && v <= ray_[i + 1];
+      if (local_min && v <= 0.85 * deepest && std::abs(t - deepest_t) >= 4.0 &&
+          std::abs(t - expected_px) < std::abs(best_t - expected_px)) {
+        best = v;  // (the 2-D refinement below starts here)
+        best_t = t;
+      }
+    }
+  }
   // Background level: median |A| along the whole ray beyond the central lobe
   // (12 px .. 45 % of the frame extent), away from the candidate (robust to
   // the central lobe and to the peak itself).

@@ -61,22 +61,24 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   const std::int64_t age = frame.index - last_speed_index_;
   double min_length = set_.min_streak_px;
   double max_background = set_.max_streak_background_tracked;
+  double expected_px = 0.0;  // L predicted from the recent speed (0: none)
   const double age_s = static_cast<double>(t_mid_ns - last_speed_t_ns_) * 1e-9;
   // Recent by time, not by frame count: gvsd skips frames when processing
   // falls behind, and a skipped frame does not make the speed less known.
   if (has_last_speed_ && age >= 1 && age_s <= set_.speed_memory_s) {
     const double slack_mps = set_.max_accel_mps2 * age_s;
-    const double v_lo = std::max(0.0, 0.85 * last_speed_mps_ - slack_mps);
-    const double v_hi = 1.15 * last_speed_mps_ + slack_mps;
+    const double v_lo = std::max(0.0, (1.0 - set_.speed_window_fraction) * last_speed_mps_ - slack_mps);
+    const double v_hi = (1.0 + set_.speed_window_fraction) * last_speed_mps_ + slack_mps;
     lo = std::max(lo, v_lo * t_s / m_per_px - 2.0);
     hi = std::min(hi, v_hi * t_s / m_per_px + 2.0);
+    expected_px = last_speed_mps_ * t_s / m_per_px;
   } else {
     min_significance = set_.min_streak_significance_cold;
     min_length = set_.min_streak_px_cold;
     max_background = set_.max_streak_background;
   }
   StreakLength len;
-  if (hi > lo + 2.0) len = blur_.streak_length(spec_full_, axis, lo, hi);
+  if (hi > lo + 2.0) len = blur_.streak_length(spec_full_, axis, lo, hi, expected_px);
   // Without a recent speed, the length must also agree with how elongated the
   // spectrum is (anisotropy grows with L: ~0.85 at 40 px, ~0.97 at 150 px on
   // asphalt): a short "streak end" in a spectrum of endless streaks is texture.

@@ -61,6 +61,9 @@ struct GvsEstimatorSettings {
   double refine_sigma = 0.05;        ///< rad/px, half-width of the line used
   double min_streak_px = 20.0;       ///< shorter streaks: length not measured (texture grain biases it)
   double min_streak_px_cold = 30.0;  ///< ... without a recent speed
+  /// Streak-end search window around a recent speed: +-this fraction, plus
+  /// max_accel_mps2 times the speed's age.
+  double speed_window_fraction = 0.15;
   double speed_memory_s = 0.055;     ///< a speed this recent is "recent": 3 frames at 60 fps (by time: frames may be skipped)
   double max_streak_background = 0.07;          ///< typical |A| off the streak end over A(0), no recent speed
   double max_streak_background_tracked = 0.13;  ///< ... searching around a recent speed (narrow window)
