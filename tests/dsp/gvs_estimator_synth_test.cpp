@@ -304,3 +304,35 @@ TEST(GvsEstimator, AStreakTooShortForADirectionGivesNone) {
 
 }  // namespace
 }  // namespace gvs::dsp
+
+namespace gvs::dsp {
+namespace {
+
+TEST(GvsEstimator, AStreakCannotShrinkFromEndlessToShortInOneFrame) {
+  // 16.7 m/s under 3 ms: 500 px streaks, too long to measure. A frame that
+  // then shows a measurable 44 px streak (1.5 m/s) without a recent speed
+  // would mean -900 m/s^2: refused (no speed), where a texture "streak end"
+  // once passed every other test (docs/estimator.md, `sine` seed 4).
+  SynthRun fast;
+  fast.v_mps = {16.7, 0.0};
+  fast.exposure.exposure_us = 3000.0;
+  auto est = make_gvs(fast.cam);
+  cv::Mat img;
+  for (int i = 0; i < 2; ++i) {
+    const VelocityEstimate e = est->estimate(fast.frame(i, img));
+    ASSERT_EQ(std::string(e.method).rfind("streak", 0), 0u) << "frame " << i << " " << e.method;
+    ASSERT_FALSE(e.has_speed);
+  }
+  SynthRun slow = fast;
+  slow.v_mps = {1.47, 0.0};
+  const VelocityEstimate e = est->estimate(slow.frame(2, img));
+  EXPECT_FALSE(e.has_speed) << e.method << " " << e.speed_mps;
+  // The same frame with no such history is measured.
+  auto fresh = make_gvs(fast.cam);
+  const VelocityEstimate f = fresh->estimate(slow.frame(2, img));
+  ASSERT_TRUE(f.has_speed) << f.method;
+  EXPECT_NEAR(f.speed_mps, 1.47, 0.03);
+}
+
+}  // namespace
+}  // namespace gvs::dsp

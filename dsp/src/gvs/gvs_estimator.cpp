@@ -75,6 +75,7 @@ void GvsEstimator::reset() {
   last_valid_ = false;
   has_last_direction_ = false;
   has_last_speed_ = false;
+  has_speed_floor_ = false;
   last_pair_valid_ = false;
   mode_ = Mode::pair;
   column_frames_ = 0;

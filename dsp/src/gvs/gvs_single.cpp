@@ -76,6 +76,14 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
     min_significance = set_.min_streak_significance_cold;
     min_length = set_.min_streak_px_cold;
     max_background = set_.max_streak_background;
+    // ... and not shorter than a recent too-long streak allows (less what
+    // max_accel_mps2 can take off since): seen in `sine` seed 4, a texture
+    // "streak end" at 44 px (1.5 m/s) between 500 px streaks (16.7 m/s).
+    const double floor_age_s = static_cast<double>(t_mid_ns - speed_floor_t_ns_) * 1e-9;
+    if (has_speed_floor_ && floor_age_s >= 0.0 && floor_age_s <= set_.speed_memory_s) {
+      const double v_floor = speed_floor_mps_ - set_.max_accel_mps2 * floor_age_s;
+      lo = std::max(lo, v_floor * t_s / m_per_px - 2.0);
+    }
   }
   StreakLength len;
   if (hi > lo + 2.0) len = blur_.streak_length(spec_full_, axis, lo, hi, expected_px);
@@ -124,6 +132,13 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   const double q_snr = std::max(snr_ratio * snr_ratio, 0.001);
   e.quality = q_dir * q_len * q_snr * sign_quality(source);
   const bool too_long = !has_speed && axis.anisotropy >= set_.long_streak_anisotropy;
+  if (too_long) {
+    has_speed_floor_ = true;
+    // Half the longest measurable streak: "too long" is also said of a
+    // streak somewhat shorter whose end the gates refused.
+    speed_floor_mps_ = 0.5 * max_px * m_per_px / t_s;
+    speed_floor_t_ns_ = t_mid_ns;
+  }
   e.method = method_name(too_long ? kLongNames : kNames, source);
   return e;
 }

@@ -148,6 +148,12 @@ class GvsEstimator final : public VelocityEstimator {
   /// continuity from a measured one), not assumed (forward prior).
   bool last_sign_known_ = false;
   bool sign_known_now_ = false;
+  /// A streak too long to measure says the speed is at least half the
+  /// longest measurable streak's (floor for a streak length found without a
+  /// recent speed: a 500 px streak cannot become a 44 px one in one frame).
+  bool has_speed_floor_ = false;
+  double speed_floor_mps_ = 0.0;
+  std::int64_t speed_floor_t_ns_ = 0;
   bool has_last_speed_ = false;       ///< last measured speed (streak-length gate)
   double last_speed_mps_ = 0.0;
   std::int64_t last_speed_index_ = 0;
