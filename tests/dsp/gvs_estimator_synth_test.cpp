@@ -252,33 +252,22 @@ TEST(GvsEstimator, FreshNoiseWithoutTextureIsNotAMotion) {
   }
 }
 
-}  // namespace
-}  // namespace gvs::dsp
-
-namespace gvs::dsp {
-namespace {
 
 TEST(GvsEstimator, OnlyTheSensorsFixedPatternIsNotAStandstill) {
   // Texture smeared flat by a streak far longer than the frame (under-exposed
   // at speed) leaves a uniform frame plus the sensor's fixed pattern, which
   // repeats from frame to frame like a standstill. It must not read as one:
   // a speed of 0 at racing speed would be a lie.
-  test::Sensor sensor;
-  sensor.contrast_grey = 0.0;  // no texture at all
-  sensor.mean_grey = 12.0;
-  sensor.noise_grey = 0.5;
-  sensor.fpn_grey = 2.5;
-  auto est = make_gvs(CameraGeometry{});
-  const cv::Mat flat = cv::Mat::zeros(1024, 1024, CV_32F);
+  SynthRun run;
+  run.v_mps = {0.0, 0.0};
+  run.sensor.contrast_grey = 0.0;  // no texture at all
+  run.sensor.mean_grey = 12.0;
+  run.sensor.noise_grey = 0.5;
+  run.sensor.fpn_grey = 2.5;
+  auto est = make_gvs(run.cam);
+  cv::Mat img;
   for (int i = 0; i < 5; ++i) {
-    FrameView f;
-    const cv::Mat img = test::render_frame(flat, {512, 384}, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-                                           test::continuous(3000.0), sensor, 700 + static_cast<std::uint64_t>(i));
-    f.gray = img;
-    f.index = i;
-    f.t_ns = static_cast<std::int64_t>(i * kFramePeriodUs * 1000.0);
-    f.exposure.exposure_us = 3000.0;
-    const VelocityEstimate e = est->estimate(f);
+    const VelocityEstimate e = est->estimate(run.frame(i, img));
     EXPECT_STRNE(e.method, "still") << "frame " << i;
     EXPECT_FALSE(e.has_speed) << "frame " << i << " " << e.method;
   }
@@ -302,11 +291,6 @@ TEST(GvsEstimator, AStreakTooShortForADirectionGivesNone) {
   }
 }
 
-}  // namespace
-}  // namespace gvs::dsp
-
-namespace gvs::dsp {
-namespace {
 
 TEST(GvsEstimator, AStreakCannotShrinkFromEndlessToShortInOneFrame) {
   // 16.7 m/s under 3 ms: 500 px streaks, too long to measure. A frame that

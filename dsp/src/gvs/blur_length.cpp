@@ -55,10 +55,10 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
   // Deepest point of A along the ray t*u, t in [min, max] (half a pixel steps).
   double best = 1e30;
   double best_t = 0.0;
-  std::size_t n_ray = 0;
-  for (double t = min_px; t <= max_px && n_ray < ray_.size(); t += 0.5) {
+  std::size_t n_ray = 0;  // samples kept in ray_ for the choice below
+  for (double t = min_px; t <= max_px; t += 0.5) {
     const double v = detail::sample_lag(surface_, t * axis.u_row, t * axis.u_col);
-    ray_[n_ray++] = v;
+    if (n_ray < ray_.size()) ray_[n_ray++] = v;
     if (v < best) {
       best = v;
       best_t = t;

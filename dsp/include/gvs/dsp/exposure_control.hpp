@@ -63,9 +63,9 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    Without a speed: a streak too long to measure (method "streak-*")
 ///    gives T_frame/4 unless the estimator is still `tracking` a recent
 ///    speed (then one such frame is a miss: hold); a streak too short for
-///    a direction ("short-streak") gives 4 T_frame; any other moving frame below max_exposure_us, when
-///    the estimator is not `tracking` a recent speed (a start-up miss), gives
-///    T_frame/2, and below min_pulse_us max_exposure_us again (a sweep over
+///    a direction ("short-streak") gives 4 T_frame; any other moving frame
+///    below max_exposure_us, when the estimator is not `tracking` a recent
+///    speed (a start-up miss), gives T_frame/2, and below min_pulse_us max_exposure_us again (a sweep over
 ///    the octaves that cannot lock up on a streak the estimator will not
 ///    measure without an earlier speed). Steps start from the frame's light
 ///    time, so frames in flight under an older plan repeat the plan made.
