@@ -63,17 +63,20 @@ TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
 }
 
 TEST(GvsAccuracy, AdaptiveStrobeAt60KmhClosedLoop) {
-  // Issue targets here (speed 1 % RMS on >= 99 % of frames, direction
-  // 0.3 / 1.0 deg) are NOT yet met above 60 km/h (docs/estimator.md has the
-  // figures); this asserts what holds already: speed on >= 95 % of frames
-  // (was 0-80 % before "short-streak"), never off by 5 %, no sign error.
+  // The issue's single-strobe targets: speed 1 % RMS, direction 0.3 deg RMS
+  // and 1.0 max (speed 1.02 % RMS and direction 0.28 deg before the streak
+  // length's window and coarse-texture corrections; 0.54 % and 0.18 deg
+  // after). Speed on >= 95 % of frames here (99 % is measured over longer
+  // runs in docs/accuracy.md), never off by 5 %, no sign error.
   const RunScore s = run_and_score(run("sine", 1.7), ExposureMode::adaptive, 0.2);
   print_score("sine adaptive 1.7 s", s);
   const BandScore& b = band(s, 3);
   ASSERT_GT(b.frames, 70);
   EXPECT_GE(b.dir_coverage(), 0.99);
-  EXPECT_LE(b.dir_max, 1.5);
+  EXPECT_LE(b.dir_rms(), 0.3);
+  EXPECT_LE(b.dir_max, 1.0);
   EXPECT_GE(b.speed_coverage(), 0.95);
+  EXPECT_LE(b.speed_rms(), 0.01);
   EXPECT_LE(b.speed_max, 0.05);
 }
 

@@ -9,10 +9,11 @@
 namespace gvs::dsp {
 
 BlurAnalyzer::BlurAnalyzer(cv::Size size)
-    : k_row_(angular_frequencies(size.height)), k_col_(angular_frequencies(size.width)) {
+    : k_row_(angular_frequencies(size.height)), k_col_(angular_frequencies(size.width)), overlap_(size) {
   // Band [0.1, 2.2] rad/px with raised-cosine edges: drops the lighting
   // gradient and window leakage (low k) and pixel-level noise/aliasing (high k).
   band_.create(size, CV_32F);
+  streak_band_.create(size, CV_32F);
   for (int r = 0; r < size.height; ++r) {
     for (int c = 0; c < size.width; ++c) {
       const double k = std::hypot(k_row_[static_cast<std::size_t>(r)], k_col_[static_cast<std::size_t>(c)]);
@@ -27,6 +28,11 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
         w = 0.5 * (1.0 + std::cos((k - 2.2) / 0.4 * kPi));
       }
       band_.at<float>(r, c) = static_cast<float>(w);
+      // Streak length only: also drop the coarse texture (stones of several
+      // mm, wavelengths beyond ~30 px), whose few large features in a frame
+      // tilt the autocorrelation around the streak end at random.
+      const double coarse = 1.0 - std::exp(-k * k / (2.0 * kStreakHighPass * kStreakHighPass));
+      streak_band_.at<float>(r, c) = static_cast<float>(w * coarse);
     }
   }
   power_.create(size, CV_32FC2);

@@ -77,7 +77,11 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
       second = std::max(second, detail::at_lag(surface_, dr, dc));
     }
   }
-  const detail::SubPixel p = detail::fit_extremum_3x3(surface_, best_r, best_c);
+  // Sub-pixel fit on A divided by the window overlap, which would pull the
+  // peak towards lag 0 (spectrum.hpp, WindowOverlap).
+  const detail::SubPixel p = detail::fit_extremum_3x3_of(
+      [this](int dr, int dc) { return detail::at_lag(surface_, dr, dc) / overlap_.at(dr, dc); }, best_r,
+      best_c);
   out.found = true;
   out.d_row_px = p.d_row;
   out.d_col_px = p.d_col;

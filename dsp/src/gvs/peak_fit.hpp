@@ -37,10 +37,13 @@ struct SubPixel {
 /// Unlike two separate 1-D parabolas this follows peaks tilted by an oblique
 /// blur. Falls back to the integer position when the fit is degenerate or
 /// lands more than a pixel away.
-inline SubPixel fit_extremum_3x3(const cv::Mat& s, int r, int c) {
+/// `value(dr, dc)` gives the surface at an integer lag (e.g. at_lag, or
+/// at_lag divided by the window overlap).
+template <class ValueAt>
+SubPixel fit_extremum_3x3_of(ValueAt&& value, int r, int c) {
   double f[3][3];
   for (int i = -1; i <= 1; ++i)
-    for (int j = -1; j <= 1; ++j) f[i + 1][j + 1] = at_lag(s, r + i, c + j);
+    for (int j = -1; j <= 1; ++j) f[i + 1][j + 1] = value(r + i, c + j);
   // Least-squares coefficients on the 3x3 grid (x = row offset, y = col offset).
   double b = 0, cc = 0, d = 0, e = 0, g = 0, sum = 0;
   for (int i = -1; i <= 1; ++i) {
@@ -74,6 +77,11 @@ inline SubPixel fit_extremum_3x3(const cv::Mat& s, int r, int c) {
   out.d_row = r + x;
   out.d_col = c + y;
   return out;
+}
+
+/// The same on the surface `s` itself.
+inline SubPixel fit_extremum_3x3(const cv::Mat& s, int r, int c) {
+  return fit_extremum_3x3_of([&s](int dr, int dc) { return at_lag(s, dr, dc); }, r, c);
 }
 
 }  // namespace gvs::dsp::detail

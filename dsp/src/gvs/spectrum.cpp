@@ -1,6 +1,8 @@
 // Windowed spectrum (see spectrum.hpp).
 #include "gvs/dsp/spectrum.hpp"
 
+#include <algorithm>
+
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -34,6 +36,47 @@ void WindowedSpectrum::compute(const cv::Mat& gray, cv::Mat& spectrum, const flo
     }
   }
   dft_.run(work_, spectrum);
+}
+
+namespace {
+// O(t) for t = 0 .. n-1 of one axis' window profile.
+std::vector<double> overlap_of(const std::vector<double>& w) {
+  const std::size_t n = w.size();
+  double o0 = 0.0;
+  for (const double v : w) o0 += v * v;
+  if (o0 <= 0.0) o0 = 1.0;
+  std::vector<double> o;
+  o.reserve(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    double sum = 0.0;
+    for (std::size_t x = 0; x + t < n; ++x) sum += w[x] * w[x + t];
+    o.push_back(sum / o0);
+  }
+  return o;
+}
+}  // namespace
+
+WindowOverlap::WindowOverlap(cv::Size size) {
+  // The same window as WindowedSpectrum; its profile along each axis through
+  // the centre (separable: w(r, c) = p_r(r) p_c(c) up to a constant).
+  cv::Mat window;
+  cv::createHanningWindow(window, size, CV_64F);
+  std::vector<double> profile_rows(static_cast<std::size_t>(size.height));
+  std::vector<double> profile_cols(static_cast<std::size_t>(size.width));
+  for (int r = 0; r < size.height; ++r) profile_rows[static_cast<std::size_t>(r)] = window.at<double>(r, size.width / 2);
+  for (int c = 0; c < size.width; ++c) profile_cols[static_cast<std::size_t>(c)] = window.at<double>(size.height / 2, c);
+  rows_ = overlap_of(profile_rows);
+  cols_ = overlap_of(profile_cols);
+}
+
+double WindowOverlap::at(int dr, int dc) const {
+  const int rows = static_cast<int>(rows_.size());
+  const int cols = static_cast<int>(cols_.size());
+  int r = ((dr % rows) + rows) % rows;
+  int c = ((dc % cols) + cols) % cols;
+  r = std::min(r, rows - r);  // lag -t wraps to n - t: the same overlap as +t
+  c = std::min(c, cols - c);
+  return rows_[static_cast<std::size_t>(r)] * cols_[static_cast<std::size_t>(c)];
 }
 
 std::vector<double> angular_frequencies(int n) {

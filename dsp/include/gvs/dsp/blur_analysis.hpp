@@ -15,6 +15,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "gvs/dsp/dft.hpp"
+#include "gvs/dsp/spectrum.hpp"
 
 namespace gvs::dsp {
 
@@ -66,6 +67,9 @@ struct DoubleImage {
 
 class BlurAnalyzer {
  public:
+  /// Gaussian high-pass (rad/px) of streak_length()'s weight: 1 - exp(-k^2 / (2 s^2)).
+  static constexpr double kStreakHighPass = 0.2;
+
   explicit BlurAnalyzer(cv::Size size);
 
   /// White-noise power per bin (temporal and fixed-pattern noise), measured
@@ -97,8 +101,10 @@ class BlurAnalyzer {
   std::vector<double> k_row_;
   std::vector<double> k_col_;
   cv::Mat band_;     ///< CV_32F band-pass weight per bin
+  cv::Mat streak_band_;  ///< band_ times a high-pass (streak_length)
   cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0)
   cv::Mat surface_;  ///< CV_32F autocorrelation
+  WindowOverlap overlap_;  ///< of the Hann window the spectra were taken with
   DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
 };
