@@ -109,7 +109,7 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
   }
   // Refine in 2-D: integer minimum in the 5x5 around the ray point, then a
   // quadratic fit, both on A divided by the window overlap (which would pull
-  // the end ~0.4 px towards lag 0 at 50 px: spectrum.hpp, WindowOverlap).
+  // the end towards lag 0: spectrum.hpp, WindowOverlap).
   const auto unwindowed = [this](int dr, int dc) {
     return detail::at_lag(surface_, dr, dc) / overlap_.at(dr, dc);
   };

@@ -2,16 +2,42 @@
 #include "gvs/dsp/spectrum.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "gvs/dsp/geometry.hpp"
 
 namespace gvs::dsp {
 
+std::vector<double> tukey_window(int n, double taper_fraction) {
+  std::vector<double> w(static_cast<std::size_t>(n), 1.0);
+  if (n < 2 || taper_fraction <= 0.0) return w;
+  const double a = std::min(taper_fraction, 1.0);
+  for (int i = 0; i < n; ++i) {
+    // Distance to the nearer border, as a fraction of the frame (0 .. 0.5).
+    const double edge = static_cast<double>(std::min(i, n - 1 - i)) / (n - 1);
+    if (edge < a / 2.0) w[static_cast<std::size_t>(i)] = 0.5 * (1.0 - std::cos(2.0 * kPi * edge / a));
+  }
+  return w;
+}
+
+cv::Mat spectrum_window(cv::Size size, int type) {
+  const std::vector<double> rows = tukey_window(size.height, kWindowTaper);
+  const std::vector<double> cols = tukey_window(size.width, kWindowTaper);
+  cv::Mat w(size, CV_64F);
+  for (int r = 0; r < size.height; ++r) {
+    for (int c = 0; c < size.width; ++c) {
+      w.at<double>(r, c) = rows[static_cast<std::size_t>(r)] * cols[static_cast<std::size_t>(c)];
+    }
+  }
+  cv::Mat out;
+  w.convertTo(out, type);
+  return out;
+}
+
 WindowedSpectrum::WindowedSpectrum(cv::Size size) : size_(size) {
-  cv::createHanningWindow(window_, size, CV_32F);
+  window_ = spectrum_window(size, CV_32F);
   work_.create(size, CV_32F);
   window_sum_ = cv::sum(window_)[0];
 }
@@ -57,16 +83,9 @@ std::vector<double> overlap_of(const std::vector<double>& w) {
 }  // namespace
 
 WindowOverlap::WindowOverlap(cv::Size size) {
-  // The same window as WindowedSpectrum; its profile along each axis through
-  // the centre (separable: w(r, c) = p_r(r) p_c(c) up to a constant).
-  cv::Mat window;
-  cv::createHanningWindow(window, size, CV_64F);
-  std::vector<double> profile_rows(static_cast<std::size_t>(size.height));
-  std::vector<double> profile_cols(static_cast<std::size_t>(size.width));
-  for (int r = 0; r < size.height; ++r) profile_rows[static_cast<std::size_t>(r)] = window.at<double>(r, size.width / 2);
-  for (int c = 0; c < size.width; ++c) profile_cols[static_cast<std::size_t>(c)] = window.at<double>(size.height / 2, c);
-  rows_ = overlap_of(profile_rows);
-  cols_ = overlap_of(profile_cols);
+  // The same (separable) window as WindowedSpectrum, axis by axis.
+  rows_ = overlap_of(tukey_window(size.height, kWindowTaper));
+  cols_ = overlap_of(tukey_window(size.width, kWindowTaper));
 }
 
 double WindowOverlap::at(int dr, int dc) const {

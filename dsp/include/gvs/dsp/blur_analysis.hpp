@@ -104,7 +104,7 @@ class BlurAnalyzer {
   cv::Mat streak_band_;  ///< band_ times a high-pass (streak_length)
   cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0)
   cv::Mat surface_;  ///< CV_32F autocorrelation
-  WindowOverlap overlap_;  ///< of the Hann window the spectra were taken with
+  WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
   DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
 };
