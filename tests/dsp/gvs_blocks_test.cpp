@@ -234,6 +234,33 @@ TEST(DoubleImage, DisplacementAndEnergySign) {
   EXPECT_GT(std::abs(d.asymmetry), 0.2);
 }
 
+// A dark frame at high gain: faint texture, strong column offsets (constant
+// down each column, like a real sensor's column fixed pattern). The column
+// pattern correlates at every row lag; the double image must still win.
+TEST(DoubleImage, ColumnFixedPatternDoesNotMakeASidePeak) {
+  const double a = deg_to_rad(20.0);
+  test::Sensor sensor;
+  sensor.contrast_grey = 4.0;
+  sensor.noise_grey = 2.0;
+  const std::vector<test::Pulse> pulses = {{0.0, 1.0, 1.0}, {60.0, 1.0, 1.0}};
+  cv::Mat img = test::render_frame(texture(), kFrame, 0, 0, 0, std::cos(a), std::sin(a), 0, pulses, sensor, 5);
+  cv::RNG rng(17);
+  for (int c = 0; c < img.cols; ++c) {
+    const int offset = static_cast<int>(std::lround(rng.gaussian(6.0)));
+    for (int r = 0; r < img.rows; ++r) img.at<std::uint8_t>(r, c) = cv::saturate_cast<std::uint8_t>(img.at<std::uint8_t>(r, c) + offset);
+  }
+  WindowedSpectrum spectrum(kFrame);
+  cv::Mat f;
+  spectrum.compute(img, f);
+  BlurAnalyzer blur(kFrame);
+  const DoubleImage d = blur.double_image(f, 4.0, 170.0);
+  ASSERT_TRUE(d.found);
+  std::printf("double image under column pattern: (%.2f, %.2f) px, height %.2f, second %.2f\n", d.d_row_px,
+              d.d_col_px, d.height, d.second_ratio);
+  EXPECT_NEAR(std::hypot(d.d_row_px, d.d_col_px), 60.0, 0.3);
+  EXPECT_NEAR(wrap_axis_deg(axis_deg(d.d_row_px, d.d_col_px) - 20.0), 0.0, 0.3);
+}
+
 TEST(FrameCheck, NamesWhyThereIsNothingToMeasure) {
   cv::Mat dark(kFrame, CV_8UC1, cv::Scalar(1));
   EXPECT_STREQ(frame_problem(measure_frame(dark)), "dark");

@@ -24,7 +24,7 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
   for (int r = 0; r < spectrum.rows; ++r) {
     const double kr = k_row_[static_cast<std::size_t>(r)];
     const auto* f = spectrum.ptr<cv::Vec2f>(r);
-    const float* w = band_.ptr<float>(r);
+    const float* w = double_band_.ptr<float>(r);
     auto* p = power_.ptr<cv::Vec2f>(r);
     for (int c = 0; c < spectrum.cols; ++c) {
       const double kc = k_col_[static_cast<std::size_t>(c)];
