@@ -47,6 +47,21 @@ TEST(GvsAccuracy, StandstillThenPullingAway) {
   EXPECT_EQ(s.confident_bad, 0);
 }
 
+TEST(GvsAccuracy, AStreakLongerThanMeasurableDoesNotAliasIntoAShortOne) {
+  // accel seed 9, 3 ms, straight ahead: streaks grow past the longest
+  // measurable (161 px) to 226-236 px at frames 146-148, whose circular
+  // alias at 384 - L = 150-160 px passed the cold-start tests (quality 0.7,
+  // 30-35 % slow) until the Hann cross-check. Frames from 2.1 s on.
+  drivers::SimulatorConfig c = run("accel", 2.6);
+  c.seed = 9;
+  const RunScore s = run_and_score(c, ExposureMode::fixed, 2.1);
+  print_score("accel fixed seed 9, 2.1-2.6 s", s);
+  const BandScore& b = band(s, 2);  // 15-60 km/h
+  ASSERT_GT(b.frames, 25);
+  EXPECT_LE(b.speed_max, 0.05);
+  EXPECT_EQ(s.confident_bad, 0);
+}
+
 TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
   // The exposure controller starts from 3 ms continuous and switches to
   // double pulses after the first estimate; the first 0.2 s are excluded.

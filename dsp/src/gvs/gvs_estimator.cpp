@@ -29,6 +29,7 @@ GvsEstimator::GvsEstimator(const EstimatorConfig& config, const GvsEstimatorSett
       right_(half_window(size_, true)),
       full_spectrum_(size_),
       half_spectrum_(left_.size()),
+      hann_spectrum_(size_, 1.0),
       half_correlator_(left_.size()),
       blur_(size_) {
   if (size_.width < 64 || size_.height < 64) {
@@ -38,6 +39,7 @@ GvsEstimator::GvsEstimator(const EstimatorConfig& config, const GvsEstimatorSett
     throw std::invalid_argument("gvs estimator: camera.mm_per_px must be > 0");
   }
   spec_full_.create(size_, CV_32FC2);
+  spec_hann_.create(size_, CV_32FC2);
   for (int i = 0; i < 2; ++i) {
     spec_left_[i].create(left_.size(), CV_32FC2);
     spec_right_[i].create(right_.size(), CV_32FC2);

@@ -22,9 +22,9 @@ std::vector<double> tukey_window(int n, double taper_fraction) {
   return w;
 }
 
-cv::Mat spectrum_window(cv::Size size, int type) {
-  const std::vector<double> rows = tukey_window(size.height, kWindowTaper);
-  const std::vector<double> cols = tukey_window(size.width, kWindowTaper);
+cv::Mat spectrum_window(cv::Size size, int type, double taper_fraction) {
+  const std::vector<double> rows = tukey_window(size.height, taper_fraction);
+  const std::vector<double> cols = tukey_window(size.width, taper_fraction);
   cv::Mat w(size, CV_64F);
   for (int r = 0; r < size.height; ++r) {
     for (int c = 0; c < size.width; ++c) {
@@ -36,8 +36,8 @@ cv::Mat spectrum_window(cv::Size size, int type) {
   return out;
 }
 
-WindowedSpectrum::WindowedSpectrum(cv::Size size) : size_(size) {
-  window_ = spectrum_window(size, CV_32F);
+WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction) : size_(size) {
+  window_ = spectrum_window(size, CV_32F, taper_fraction);
   work_.create(size, CV_32F);
   window_sum_ = cv::sum(window_)[0];
 }

@@ -115,10 +115,14 @@ class GvsEstimator final : public VelocityEstimator {
 
   WindowedSpectrum full_spectrum_;
   WindowedSpectrum half_spectrum_;
+  /// Hann-windowed (taper 1) spectrum, only to check a streak length found
+  /// without a recent speed (see estimate_single: circular aliasing).
+  WindowedSpectrum hann_spectrum_;
   PhaseCorrelator half_correlator_;
   BlurAnalyzer blur_;
 
   cv::Mat spec_full_;
+  cv::Mat spec_hann_;
   cv::Mat spec_left_[2];
   cv::Mat spec_right_[2];
   int cur_ = 0;  ///< index of the current half spectra; 1 - cur_ holds the previous frame's

@@ -25,8 +25,8 @@ inline constexpr double kWindowTaper = 0.25;
 /// cosine over taper_fraction * n / 2 samples at each end (taper 1 = Hann).
 std::vector<double> tukey_window(int n, double taper_fraction);
 
-/// The 2-D spectrum window: tukey_window(rows) x tukey_window(cols), kWindowTaper.
-cv::Mat spectrum_window(cv::Size size, int type);
+/// The 2-D spectrum window: tukey_window(rows) x tukey_window(cols).
+cv::Mat spectrum_window(cv::Size size, int type, double taper_fraction = kWindowTaper);
 
 /// Spectrum F(k) of a mean-removed, windowed image (spectrum_window):
 ///   f(x) = (g(x) - m) * w(x),  m = sum(g w) / sum(w),  F = DFT(f)
@@ -34,7 +34,8 @@ cv::Mat spectrum_window(cv::Size size, int type);
 /// configured size.
 class WindowedSpectrum {
  public:
-  explicit WindowedSpectrum(cv::Size size);
+  /// `taper_fraction`: of the Tukey window (1: Hann).
+  explicit WindowedSpectrum(cv::Size size, double taper_fraction = kWindowTaper);
 
   /// `gray`: CV_8UC1 of the configured size (use a ROI for sub-windows).
   /// `spectrum`: full complex spectrum, CV_32FC2, same size.
