@@ -1,5 +1,5 @@
 // The thesis's own frames (shared/testdata/thesis-frames, see its README):
-// what the thesis-fft baseline reads on them. True axis of the vertical_*,
+// what the thesis-fft baseline and gvs read on them. True axis of the vertical_*,
 // blobnoise_* and saltpepper_* frames: straight ahead, 0 deg.
 #include <cmath>
 #include <cstdio>
@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/gvs_estimator.hpp"
 #include "gvs/dsp/thesis.hpp"
 
 namespace gvs::dsp {
@@ -76,6 +77,31 @@ TEST(ThesisFrames, FftOnNoisyAndUnblurredFramesIsReported) {
     EXPECT_TRUE(r.ok) << n;
     EXPECT_GT(r.axis_deg, -90.0);
     EXPECT_LE(r.axis_deg, 90.0);
+  }
+}
+
+// The estimation issue: these frames come out straight ahead within 1 deg.
+// Their streaks are 20-100 px; the 20-30 px ones (vertical_mb_0/1,
+// blobnoise_0, saltpepper_0) are too short for a speed without a previous
+// frame, and their spectra's orientation is 1.0-1.5 deg off (the texture's
+// own anisotropy): the axis must come from the streak end's lag.
+TEST(ThesisFrames, GvsReadsEveryFrameStraightAheadWithinOneDegree) {
+  for (const char* n : {"vertical_mb_0", "vertical_mb_1", "vertical_mb_2", "vertical_mb_3", "blobnoise_0",
+                        "blobnoise_3", "blobnoise_6", "saltpepper_0", "saltpepper_3"}) {
+    const cv::Mat g = load(n);
+    ASSERT_FALSE(g.empty()) << n;
+    EstimatorConfig config;
+    config.camera = CameraGeometry{g.cols, g.rows, 0.1, 0.0};
+    GvsEstimator gvs(config);  // a new one per frame: no previous frame, no recent speed
+    FrameView frame;
+    frame.gray = g;
+    frame.exposure.exposure_us = 3000.0;
+    const VelocityEstimate e = gvs.estimate(frame);
+    std::printf("%-16s gvs direction %7.3f deg, quality %.2f, %s\n", n, e.direction_deg, e.quality, e.method);
+    ASSERT_TRUE(e.has_direction) << n << ": " << e.method;
+    // One frame cannot tell forwards from backwards: 0 or 180 deg.
+    const double off_axis_deg = std::abs(std::remainder(e.direction_deg, 180.0));
+    EXPECT_LE(off_axis_deg, 1.0) << n << ": " << e.method;
   }
 }
 

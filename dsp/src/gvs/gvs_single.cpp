@@ -55,7 +55,7 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   // measured speed (up to 10 frames old, widened for +-max_accel), because the
   // texture's own grain can mimic a streak end; everywhere, with a stricter
   // significance and background, without a recent speed.
-  double lo = set_.min_streak_px;
+  double lo = set_.min_streak_search_px;
   double hi = max_px;
   double min_significance = set_.min_streak_significance;
   const std::int64_t age = frame.index - last_speed_index_;
@@ -94,10 +94,12 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   const bool consistent = !cold || axis.anisotropy < 0.93 + 0.0003 * len.length_px;
   const auto accepted = [&](const StreakLength& l) {
     return l.found && l.depth >= set_.min_streak_depth && l.significance >= min_significance &&
-           l.background <= max_background && l.length_px >= min_length && l.length_px > lo + 0.5 &&
-           l.length_px < hi - 0.5;
+           l.background <= max_background && l.length_px > lo + 0.5 && l.length_px < hi - 0.5;
   };
-  bool has_speed = consistent && accepted(len) && axis.texture_snr >= set_.min_speed_texture_snr;
+  // A clear streak end: its lag gives the axis from axis_from_streak_end_px,
+  // its length the speed from min_length.
+  bool clear_end = consistent && accepted(len) && axis.texture_snr >= set_.min_speed_texture_snr;
+  bool has_speed = clear_end && len.length_px >= min_length;
   if (has_speed && cold) {
     // The surface is circular: a streak end at lag L' also shows at lag
     // (frame - L') along an axis parallel to the rows or columns. A streak
@@ -119,13 +121,16 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
       // tenths of a pixel off at most, well inside the 3 % agreement.)
       has_speed = check.found &&
                   std::abs(check.length_px - len.length_px) <= std::max(2.0, 0.03 * len.length_px);
+      // An alias's lag is not on the axis either: (frame - L', -d_across).
+      clear_end = has_speed;
     }
   }
 
-  // Axis: the streak-length peak lag is the sharper estimate once the streak is long.
+  // Axis: the streak end's lag is the sharper estimate once the streak is long
+  // (the spectrum's orientation also carries the texture's own anisotropy).
   double u_row = axis.u_row;
   double u_col = axis.u_col;
-  if (has_speed && len.length_px >= set_.axis_from_streak_end_px) {
+  if (clear_end && len.length_px >= set_.axis_from_streak_end_px) {
     u_row = len.d_row_px / len.length_px;
     u_col = len.d_col_px / len.length_px;
   }
