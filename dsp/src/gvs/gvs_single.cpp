@@ -42,8 +42,10 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
     e.method = "short-streak";
     return e;
   }
+  const bool line_sharp = axis.anisotropy >= set_.refine_min_anisotropy &&
+                          axis.texture_snr >= set_.refine_high_k_min_texture_snr;
   if (axis.anisotropy >= set_.refine_min_anisotropy) {
-    axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2);
+    axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2, line_sharp);
   }
 
   // Longest streak we can measure: a fraction of the frame extent along the axis.
@@ -126,11 +128,13 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
     }
   }
 
-  // Axis: the streak end's lag is the sharper estimate once the streak is long
-  // (the spectrum's orientation also carries the texture's own anisotropy).
+  // Axis: the streak end's lag is the sharper estimate for streaks of some
+  // tens of pixels (the spectrum's orientation also carries the texture's own
+  // anisotropy); from ~100 px the refined line in the spectrum is sharper.
   double u_row = axis.u_row;
   double u_col = axis.u_col;
-  if (clear_end && len.length_px >= set_.axis_from_streak_end_px) {
+  if (clear_end && len.length_px >= set_.axis_from_streak_end_px &&
+      (len.length_px < set_.axis_from_streak_end_max_px || !line_sharp)) {
     u_row = len.d_row_px / len.length_px;
     u_col = len.d_col_px / len.length_px;
   }

@@ -80,10 +80,17 @@ class BlurAnalyzer {
 
   [[nodiscard]] StreakAxis streak_axis(const cv::Mat& spectrum) const;
 
+  /// |k| (rad/px) up to which refine_axis() weights the line by |k|^2.
+  static constexpr double kLineWeightCap = 1.0;
+
   /// Refines `start` by moments of the energy within ~sigma (rad/px) of the
   /// line k.u = 0 only (see blur_orientation.cpp). Keeps start's anisotropy.
+  /// With `high_k_weight`, each bin also counts min(|k|, kLineWeightCap)^2
+  /// times: the line's direction is sharpest far from the origin, where the
+  /// coarse ground's own anisotropy is small (needs texture well above the
+  /// sensor noise there).
   [[nodiscard]] StreakAxis refine_axis(const cv::Mat& spectrum, const StreakAxis& start,
-                                       double sigma, int iterations) const;
+                                       double sigma, int iterations, bool high_k_weight = false) const;
 
   /// Searches min_px <= L <= max_px along `axis`. With expected_px > 0
   /// (a length predicted from a recent speed), of several streak ends at

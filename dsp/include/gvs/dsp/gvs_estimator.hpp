@@ -55,14 +55,20 @@ struct GvsEstimatorSettings {
   double min_anisotropy = 0.6;
   double min_texture_snr = 0.3;      ///< band power above the noise floor over the noise: below, "no-texture"
   double good_texture_snr = 10.0;    ///< full quality from here (normal light: 10-70)
-  double refine_min_anisotropy = 0.9; ///< long streaks: refine the axis on the spectral line
+  double refine_min_anisotropy = 0.8; ///< longer streaks: refine the axis on the spectral line
   /// A clear streak end from this length gives the axis (its lag's direction),
   /// even where it is too short for a speed (below min_streak_px, or
   /// min_streak_px_cold without a recent speed): on the thesis's 20 px frames
   /// the end is within 0.5 deg, the spectrum's orientation 1.4 deg off.
   double axis_from_streak_end_px = 18.0;
+  /// ... up to this length: longer streaks give a sharper line in the
+  /// spectrum (refined, weighted to high |k|: ~0.03 deg RMS against ~0.1 from
+  /// the end's lag at 125-210 px; docs/estimator.md).
+  double axis_from_streak_end_max_px = 100.0;
   double long_streak_anisotropy = 0.96;///< no speed and above: "streak-*" (too long), else "blur-*"
   double refine_sigma = 0.05;        ///< rad/px, half-width of the line used
+  /// From this texture SNR the line is weighted towards high |k| (refine_axis's high_k_weight).
+  double refine_high_k_min_texture_snr = 4.0;
   double min_streak_search_px = 16.0; ///< the streak-end search starts here
   double min_streak_px = 20.0;       ///< shorter streaks: length not measured (texture grain biases it)
   double min_streak_px_cold = 30.0;  ///< ... without a recent speed
