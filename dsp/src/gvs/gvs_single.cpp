@@ -42,11 +42,9 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
     e.method = "short-streak";
     return e;
   }
-  const bool line_sharp = axis.anisotropy >= set_.refine_min_anisotropy &&
-                          axis.texture_snr >= set_.refine_high_k_min_texture_snr;
-  if (axis.anisotropy >= set_.refine_min_anisotropy) {
-    axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2, line_sharp);
-  }
+  const bool refine = axis.anisotropy >= set_.refine_min_anisotropy;
+  const bool line_sharp = refine && axis.texture_snr >= set_.refine_high_k_min_texture_snr;
+  if (refine) axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2, line_sharp);
 
   // Longest streak we can measure: a fraction of the frame extent along the axis.
   const double extent = std::abs(axis.u_row) * size_.height + std::abs(axis.u_col) * size_.width;
