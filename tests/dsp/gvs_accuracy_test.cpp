@@ -149,13 +149,43 @@ TEST(GvsAccuracy, OverExposedSpinHasNoFalseStreakEnd) {
   EXPECT_EQ(s.confident_bad, 0);
 }
 
-TEST(GvsAccuracy, UnderExposedLongStreaksAreFlaggedNotTrusted) {
-  // Mean grey ~10 and 500 px streaks: the texture nearly averages out and the
-  // sensor's column pattern pulls the axis. The estimator must say so.
-  const RunScore s = run_and_score(run("sine", 1.5, drivers::LightLevel::under), ExposureMode::fixed);
-  print_score("sine fixed under-exposed 1.5 s", s);
+TEST(GvsAccuracy, UnderExposedFramesKeepTheDirection) {
+  // Mean grey ~10 and 500 px streaks: the texture averages down to tenths of
+  // a grey level, below the sensor's own pixel offsets. Until the pixel
+  // pattern was learnt and taken out, such frames gave no direction
+  // ("no-texture" on 98 % of them, docs/estimator.md, "Dark frames"). The
+  // first 0.1 s are excluded: a cold start in the dark gives no direction
+  // for three frames, until the pattern is learnt from two.
+  const RunScore s = run_and_score(run("sine", 1.6, drivers::LightLevel::under), ExposureMode::fixed, 0.1);
+  print_score("sine fixed under-exposed 1.6 s", s);
+  const BandScore& b = band(s, 3);
+  ASSERT_GT(b.frames, 70);
+  EXPECT_GE(b.dir_coverage(), 0.99);
+  EXPECT_LE(b.dir_rms(), 0.2);  // the figures
+  EXPECT_LE(b.dir_max, 1.0);
+  EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
-  EXPECT_LE(band(s, 3).speed_max, 0.05);
+}
+
+TEST(GvsAccuracy, UnderExposedDoublePulseAt60Kmh) {
+  // Two short pulses in the dark: the double image shows above the noise
+  // only with the pixel pattern taken out (displacement on 56 % of frames at
+  // 60-140 km/h before, `const double-pulse under`, seed 1). Here, a cold
+  // start, the direction is 0.25 deg RMS, max 1.2 (quality 0.2-0.4 on
+  // those): not yet the 0.2 / 1.0, which the longer seed-1 runs meet
+  // once the pattern is learnt in full (docs/estimator.md). Asserted: the
+  // displacement found, speed within the 5 %, no confident error.
+  const RunScore s =
+      run_and_score(run("sine", 1.7, drivers::LightLevel::under), ExposureMode::double_pulse, 0.2);
+  print_score("sine double-pulse under-exposed 1.7 s", s);
+  const BandScore& b = band(s, 3);
+  ASSERT_GT(b.frames, 70);
+  EXPECT_GE(b.dir_coverage(), 0.95);
+  EXPECT_GE(b.speed_coverage(), 0.95);
+  EXPECT_LE(b.speed_rms(), 0.01);
+  EXPECT_LE(b.speed_max, 0.05);
+  EXPECT_LE(b.dir_rms(), 0.3);
+  EXPECT_EQ(s.confident_bad, 0);
 }
 
 }  // namespace

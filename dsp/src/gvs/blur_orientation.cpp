@@ -16,7 +16,39 @@
 
 namespace gvs::dsp {
 
-StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum) const {
+double BlurAnalyzer::gain_at(const RingGain* gain, double kr, double kc) {
+  if (gain == nullptr) return 1.0;
+  const auto ring = static_cast<std::size_t>(std::hypot(kr, kc) / kRingWidth);
+  return ring < gain->size() ? (*gain)[ring] : 0.0;
+}
+
+void BlurAnalyzer::ring_gain(const cv::Mat& spectrum, const StreakAxis* line, double half_width,
+                             RingGain& gain) const {
+  RingGain sum{};
+  RingGain count{};
+  for (int r = 0; r < spectrum.rows; ++r) {
+    const double kr = k_row_[static_cast<std::size_t>(r)];
+    const auto* f = spectrum.ptr<cv::Vec2f>(r);
+    const float* w = band_.ptr<float>(r);
+    for (int c = 0; c < spectrum.cols; ++c) {
+      const double kc = k_col_[static_cast<std::size_t>(c)];
+      if (w[c] == 0.0f) continue;
+      if (line != nullptr && std::abs(kr * line->u_row + kc * line->u_col) > half_width) continue;
+      const auto ring = static_cast<std::size_t>(std::hypot(kr, kc) / kRingWidth);
+      if (ring >= sum.size()) continue;
+      sum[ring] += static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]);
+      count[ring] += 1.0;
+    }
+  }
+  const double n0 = noise_floor(spectrum);
+  for (std::size_t i = 0; i < gain.size(); ++i) {
+    const double p = count[i] > 0.0 ? sum[i] / count[i] : 0.0;
+    const double wiener = p > 0.0 ? std::max(0.0, p - n0) / p : 0.0;
+    gain[i] = wiener * wiener;
+  }
+}
+
+StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum, const RingGain* gain) const {
   double m_rr = 0.0;
   double m_cc = 0.0;
   double m_rc = 0.0;
@@ -31,13 +63,14 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum) const {
     double a_cc = 0.0;
     double a_rc = 0.0;
     for (int c = 0; c < spectrum.cols; ++c) {
-      const double p = static_cast<double>(w[c]) *
-          (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
       const double kc = k_col_[static_cast<std::size_t>(c)];
+      const double band_power = static_cast<double>(w[c]) *
+          (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
+      const double p = gain_at(gain, kr, kc) * band_power;
       a_cc += p * kc * kc;
       a_rc += p * kc;
       a_rr += p;
-      signal += p;
+      signal += band_power;  // the SNR without the gain
       noise += static_cast<double>(w[c]) * n0;
     }
     m_rr += a_rr * kr * kr;
@@ -59,7 +92,8 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum) const {
 }
 
 StreakAxis BlurAnalyzer::refine_axis(const cv::Mat& spectrum, const StreakAxis& start,
-                                     double sigma, int iterations, bool high_k_weight) const {
+                                     double sigma, int iterations, bool high_k_weight,
+                                     const RingGain* gain) const {
   // Iteratively reweighted moments: only energy within ~sigma of the line
   // k.u = 0 counts, weight exp(-(k.u)^2 / (2 sigma^2)). The off-line energy of
   // a finite streak (sinc^2 side lobes) carries the texture's own random
@@ -92,7 +126,8 @@ StreakAxis BlurAnalyzer::refine_axis(const cv::Mat& spectrum, const StreakAxis& 
         const double ku = kr * axis.u_row + kc * axis.u_col;
         const double g = ku * ku * inv2s2;
         if (g > 8.0 || w[c] == 0.0f) continue;
-        const double k_weight = high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0;
+        const double k_weight =
+            (high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0) * gain_at(gain, kr, kc);
         const double p = static_cast<double>(w[c]) * std::exp(-g) * k_weight *
             (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
         m_rr += p * kr * kr;

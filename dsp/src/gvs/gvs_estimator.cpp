@@ -47,6 +47,29 @@ GvsEstimator::GvsEstimator(const EstimatorConfig& config, const GvsEstimatorSett
   prev_gray_.create(size_, CV_8UC1);
   column_pattern_.assign(static_cast<std::size_t>(size_.width), 0.0f);
   column_sum_.assign(static_cast<std::size_t>(size_.width), 0.0);
+  pixel_pattern_ = cv::Mat::zeros(size_, CV_32F);
+}
+
+void GvsEstimator::learn_pixel_pattern(const cv::Mat& gray, double mean_grey) {
+  // offset(r,c) <- offset + a (g(r,c) - frame mean - offset), a = 1/n for
+  // the first 100 frames, then 1/100: the texture of moving ground averages
+  // out, the sensor's offsets (and the light's fall-off) stay.
+  pixel_frames_ = std::min(pixel_frames_ + 1, 100);
+  const auto a = static_cast<float>(1.0 / pixel_frames_);
+  const auto m = static_cast<float>(mean_grey);
+  for (int r = 0; r < gray.rows; ++r) {
+    const auto* g = gray.ptr<std::uint8_t>(r);
+    auto* p = pixel_pattern_.ptr<float>(r);
+    for (int c = 0; c < gray.cols; ++c) p[c] += a * (static_cast<float>(g[c]) - m - p[c]);
+  }
+}
+
+void GvsEstimator::take_spectrum(WindowedSpectrum& with, const cv::Mat& gray, cv::Mat& spectrum) {
+  if (pixel_pattern_in_use_) {
+    with.compute(gray, spectrum, pixel_pattern_);
+  } else {
+    with.compute(gray, spectrum, column_pattern());
+  }
 }
 
 void GvsEstimator::learn_column_pattern(const cv::Mat& gray, double mean_grey) {
@@ -81,6 +104,8 @@ void GvsEstimator::reset() {
   last_pair_valid_ = false;
   mode_ = Mode::pair;
   column_frames_ = 0;
+  pixel_frames_ = 0;
+  pixel_pattern_.setTo(0.0f);
   std::fill(column_pattern_.begin(), column_pattern_.end(), 0.0f);
 }
 
@@ -89,6 +114,7 @@ VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
   const auto t_mid = frame.t_ns + std::llround(frame.exposure.light_centre_us() * 1000.0);
   halves_this_frame_ = false;
   sign_known_now_ = false;
+  single_frame_tried_ = false;
   if (frame.gray.empty() || frame.gray.type() != CV_8UC1 || frame.gray.size() != size_) {
     reset();
     return no_estimate(frame.index, t_mid, "bad-frame");
@@ -105,6 +131,7 @@ VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
   }
   cur_mean_grey_ = stats.mean_grey;
 
+  const bool had_previous = prev_valid_;
   VelocityEstimate e;
   if (frame.exposure.pulse_count >= 2) {
     e = estimate_double(frame, t_mid);
@@ -147,7 +174,20 @@ VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
   // frame shows new ground, so column means hold only the fixed pattern.
   const bool fast = e.quality > 0.0 && e.has_direction &&
                     (e.method != std::string_view("pair") && e.method != std::string_view("still"));
-  if (fast && (!e.has_speed || e.speed_mps > 2.0)) learn_column_pattern(frame.gray, stats.mean_grey);
+  const bool slow = e.has_speed && e.speed_mps <= 2.0;
+  if (fast && !slow) learn_column_pattern(frame.gray, stats.mean_grey);
+  // The pixel pattern from every frame whose ground moved on by a few
+  // grains since the previous one (pairs included: each pixel then sees new
+  // texture), and from frames without a speed where the pair did not match or
+  // was not tried and the frame is not still: a dark frame at speed shows
+  // little but the pattern, which is what is to be learnt. Not from a first
+  // frame (nothing to compare it with).
+  if (had_previous) {
+    const double dt_s = static_cast<double>(t_mid - prev_t_mid_ns_) * 1e-9;
+    const double shift_px = e.speed_mps * dt_s / (cam_.mm_per_px * 1e-3);
+    const bool moved = e.has_speed ? shift_px >= set_.pixel_pattern_min_shift_px : single_frame_tried_;
+    if (moved) learn_pixel_pattern(frame.gray, stats.mean_grey);
+  }
   e.tracking = has_last_speed_ && t_mid > last_speed_t_ns_ &&
                static_cast<double>(t_mid - last_speed_t_ns_) * 1e-9 <= set_.speed_memory_s;
   remember(frame, t_mid, e);

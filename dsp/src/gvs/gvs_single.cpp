@@ -29,8 +29,28 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   // Direction only, because the streak is longer than we can measure.
   static constexpr const char* kLongNames[3] = {"streak-cont", "streak-energy", "streak-fwd"};
   VelocityEstimate e = no_estimate(frame.index, t_mid_ns, "no-match");
-  full_spectrum_.compute(frame.gray, spec_full_, column_pattern());
+  single_frame_tried_ = true;
+  pixel_pattern_in_use_ = false;
+  take_spectrum(full_spectrum_, frame.gray, spec_full_);
   StreakAxis axis = blur_.streak_axis(spec_full_);
+  const bool dark = axis.texture_snr < set_.pixel_pattern_max_texture_snr;
+  if (axis.texture_snr < set_.good_texture_snr && cur_mean_grey_ < set_.unlearnt_max_mean_grey &&
+      pixel_frames_ < set_.pixel_pattern_min_frames && column_pattern() == nullptr) {
+    // Nothing learnt yet, a dark frame and not much texture: the column
+    // pattern, an endless streak along the columns, may be what rules the
+    // spectrum (on the first under-exposed frame of `const`, SNR 6, an 8 px
+    // streak read 6 deg off).
+    e.method = "no-texture";
+    return e;
+  }
+  if (dark && pixel_frames_ >= set_.pixel_pattern_min_frames) {
+    // Dark frame: without the sensor's whole pattern, and only the rings of
+    // |k| where the texture shows (docs/estimator.md, "Dark frames").
+    pixel_pattern_in_use_ = true;
+    take_spectrum(full_spectrum_, frame.gray, spec_full_);
+    blur_.ring_gain(spec_full_, nullptr, 0.0, ring_gain_);
+    axis = blur_.streak_axis(spec_full_, &ring_gain_);
+  }
   last_axis_anisotropy_ = axis.anisotropy;
   if (axis.texture_snr < set_.min_texture_snr) {
     e.method = "no-texture";
@@ -44,7 +64,14 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   }
   const bool refine = axis.anisotropy >= set_.refine_min_anisotropy;
   const bool line_sharp = refine && axis.texture_snr >= set_.refine_high_k_min_texture_snr;
-  if (refine) axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2, line_sharp);
+  if (refine && pixel_pattern_in_use_) {
+    // The gain along the line itself: there the texture stands out further.
+    blur_.ring_gain(spec_full_, &axis, 2.0 * set_.refine_sigma, ring_gain_);
+  }
+  if (refine) {
+    axis = blur_.refine_axis(spec_full_, axis, set_.refine_sigma, 2, line_sharp,
+                             pixel_pattern_in_use_ ? &ring_gain_ : nullptr);
+  }
 
   // Longest streak we can measure: a fraction of the frame extent along the axis.
   const double extent = std::abs(axis.u_row) * size_.height + std::abs(axis.u_col) * size_.width;
@@ -115,7 +142,7 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
     const bool along_cols = std::abs(axis.u_row) * size_.width < 3.0;
     const double alias_min_px = 0.15 * (along_rows ? size_.height : size_.width);
     if ((along_rows || along_cols) && len.length_px > alias_min_px) {
-      hann_spectrum_.compute(frame.gray, spec_hann_, column_pattern());
+      take_spectrum(hann_spectrum_, frame.gray, spec_hann_);
       const StreakLength check = blur_.streak_length(spec_hann_, axis, lo, hi, 0.0);
       // (Its sub-pixel fit divides by the Tukey window's overlap: a few
       // tenths of a pixel off at most, well inside the 3 % agreement.)
@@ -158,8 +185,12 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   // texture, and the column pattern of the sensor then pulls the axis.
   // Measured: 5-14 deg RMS at SNR 1-3, 1-3 deg at 4-8, 0.1-0.4 deg from 10:
   // the quality falls with the square of the SNR below good_texture_snr.
+  // Dark frames (measured with the pixel pattern taken out) are no better at
+  // a higher SNR: 0.1-0.3 deg RMS at every SNR, max ~1.3 deg (six
+  // under-exposed seed-1 runs): a fixed, low quality.
   const double snr_ratio = std::min(axis.texture_snr / set_.good_texture_snr, 1.0);
-  const double q_snr = std::max(snr_ratio * snr_ratio, 0.001);
+  const double q_snr =
+      pixel_pattern_in_use_ ? set_.dark_frame_quality : std::max(snr_ratio * snr_ratio, 0.001);
   e.quality = q_dir * q_len * q_snr * sign_quality(source);
   const bool too_long = !has_speed && axis.anisotropy >= set_.long_streak_anisotropy;
   if (too_long) {
@@ -177,18 +208,41 @@ VelocityEstimate GvsEstimator::estimate_double(const FrameView& frame, std::int6
   static constexpr const char* kNames[3] = {"dpiv-cont", "dpiv-energy", "dpiv-fwd"};
   VelocityEstimate e = no_estimate(frame.index, t_mid_ns, "no-match");
   last_pair_valid_ = false;
+  // (No column pattern here: double_image() drops the spectrum rows it lives in.)
   full_spectrum_.compute(frame.gray, spec_full_);
-  const double max_px = 0.45 * std::min(size_.width, size_.height);
-  DoubleImage pair = blur_.double_image(spec_full_, 4.0, max_px);
-  if (!pair.found || pair.height < set_.min_double_height ||
-      pair.second_ratio > set_.max_double_second) {
-    return e;
+  double texture_snr = blur_.streak_axis(spec_full_).texture_snr;
+  if (texture_snr < set_.pixel_pattern_max_texture_snr && pixel_frames_ >= set_.pixel_pattern_min_frames) {
+    // Dark frame (short pulses at speed): without the sensor's whole pattern.
+    // `const double-pulse under`, 60-140 km/h: displacement found on 56 -> 85 %
+    // of frames, 0.76 -> 0.18 deg RMS (docs/estimator.md, "Dark frames").
+    full_spectrum_.compute(frame.gray, spec_full_, pixel_pattern_);
+    texture_snr = blur_.streak_axis(spec_full_).texture_snr;
   }
   // Pulse centres c1, c2; the displacement d spans dt = c2 - c1.
   const LightPulse& p1 = frame.exposure.pulses[0];
   const LightPulse& p2 = frame.exposure.pulses[1];
   const double dt_s = ((p2.start_us + p2.duration_us / 2.0) - (p1.start_us + p1.duration_us / 2.0)) * 1e-6;
   if (!(dt_s > 0.0)) return e;
+  double min_px = 4.0;
+  double max_px = 0.45 * std::min(size_.width, size_.height);
+  // With a recent speed, only displacements the car can reach since (as for
+  // the streak length): a dark frame's noise once made a side peak 5.5x
+  // too far at 140 km/h (`const double-pulse under`).
+  const double age_s = static_cast<double>(t_mid_ns - last_speed_t_ns_) * 1e-9;
+  if (has_last_speed_ && age_s > 0.0 && age_s <= set_.speed_memory_s) {
+    const double slack_mps = set_.max_accel_mps2 * age_s;
+    const double px_per_mps = dt_s / (cam_.mm_per_px * 1e-3);
+    const double v_lo = std::max(0.0, (1.0 - set_.speed_window_fraction) * last_speed_mps_ - slack_mps);
+    const double v_hi = (1.0 + set_.speed_window_fraction) * last_speed_mps_ + slack_mps;
+    min_px = std::max(min_px, v_lo * px_per_mps - 2.0);
+    max_px = std::min(max_px, v_hi * px_per_mps + 2.0);
+    if (max_px <= min_px) return e;
+  }
+  DoubleImage pair = blur_.double_image(spec_full_, min_px, max_px);
+  if (!pair.found || pair.height < set_.min_double_height ||
+      pair.second_ratio > set_.max_double_second) {
+    return e;
+  }
 
   // Unequal energies: the third-order asymmetry says which way d points
   // (> 0: from the stronger image to the weaker one).
@@ -206,7 +260,10 @@ VelocityEstimate GvsEstimator::estimate_double(const FrameView& frame, std::int6
 
   const double q_peak = std::clamp((pair.height - set_.min_double_height) / 0.15, 0.05, 1.0);
   const double q_unique = std::clamp(1.5 * (1.0 - pair.second_ratio), 0.05, 1.0);
-  e.quality = q_peak * q_unique * sign_quality(source);
+  // Dark frames: within 0.2 deg and 0.4 % down to texture SNR ~2.5, but
+  // below ~1 (under-exposed above ~100 km/h) one frame in ten is far off.
+  const double q_snr = std::clamp(texture_snr / set_.good_double_texture_snr, 0.05, 1.0);
+  e.quality = q_peak * q_unique * q_snr * sign_quality(source);
   e.method = method_name(kNames, source);
   return e;
 }

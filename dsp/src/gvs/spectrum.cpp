@@ -42,26 +42,41 @@ WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction) : size_
   window_sum_ = cv::sum(window_)[0];
 }
 
-void WindowedSpectrum::compute(const cv::Mat& gray, cv::Mat& spectrum, const float* column_offsets) {
-  // m = sum(g w) / sum(w): the windowed mean, so that f has no DC term.
+template <class RowOffsets>
+void WindowedSpectrum::compute_with(const cv::Mat& gray, cv::Mat& spectrum, RowOffsets row_offsets) {
+  // m = sum((g - o) w) / sum(w): the windowed mean, so that f has no DC term.
   double weighted = 0.0;
   for (int r = 0; r < size_.height; ++r) {
     const auto* g = gray.ptr<unsigned char>(r);
+    const float* o = row_offsets(r);
     const float* w = window_.ptr<float>(r);
-    for (int c = 0; c < size_.width; ++c) weighted += static_cast<double>(g[c] * w[c]);
+    for (int c = 0; c < size_.width; ++c) {
+      const float v = o != nullptr ? static_cast<float>(g[c]) - o[c] : static_cast<float>(g[c]);
+      weighted += static_cast<double>(v * w[c]);
+    }
   }
   const auto m = static_cast<float>(weighted / window_sum_);
   for (int r = 0; r < size_.height; ++r) {
     const auto* g = gray.ptr<unsigned char>(r);
+    const float* o = row_offsets(r);
     const float* w = window_.ptr<float>(r);
     float* f = work_.ptr<float>(r);
-    if (column_offsets != nullptr) {
-      for (int c = 0; c < size_.width; ++c) f[c] = (static_cast<float>(g[c]) - column_offsets[c] - m) * w[c];
+    if (o != nullptr) {
+      for (int c = 0; c < size_.width; ++c) f[c] = (static_cast<float>(g[c]) - o[c] - m) * w[c];
     } else {
       for (int c = 0; c < size_.width; ++c) f[c] = (static_cast<float>(g[c]) - m) * w[c];
     }
   }
   dft_.run(work_, spectrum);
+}
+
+void WindowedSpectrum::compute(const cv::Mat& gray, cv::Mat& spectrum, const float* column_offsets) {
+  // The same offsets for every row.
+  compute_with(gray, spectrum, [column_offsets](int) { return column_offsets; });
+}
+
+void WindowedSpectrum::compute(const cv::Mat& gray, cv::Mat& spectrum, const cv::Mat& pixel_offsets) {
+  compute_with(gray, spectrum, [&pixel_offsets](int r) { return pixel_offsets.ptr<float>(r); });
 }
 
 namespace {

@@ -78,7 +78,25 @@ class BlurAnalyzer {
   /// would leave a third of the noise in).
   [[nodiscard]] double noise_floor(const cv::Mat& spectrum) const;
 
-  [[nodiscard]] StreakAxis streak_axis(const cv::Mat& spectrum) const;
+  /// Rings of |k| (width kRingWidth rad/px, from 0) for ring_gain().
+  static constexpr int kRings = 64;
+  static constexpr double kRingWidth = 0.05;
+  using RingGain = std::array<double, kRings>;
+
+  /// Weight per ring of |k| where the texture shows above the sensor noise:
+  ///   G = (S / P)^2,  S = max(P - N0, 0),
+  /// P the mean power on the ring: on the whole ring, or with `line` only
+  /// within `half_width` (rad/px) of its line k.u = 0. For dark frames: the
+  /// texture stands above the noise at low |k| only (asphalt's power falls
+  /// steeply with |k|), and the bins beyond carry only the noise's random
+  /// scatter, which the moments' |k|^2 would amplify. S/P is the Wiener
+  /// filter's gain; its square was the best of the powers 1, 2 and 3 on
+  /// the simulator's under-exposed runs (docs/estimator.md, "Dark frames").
+  void ring_gain(const cv::Mat& spectrum, const StreakAxis* line, double half_width,
+                 RingGain& gain) const;
+
+  /// `gain` (optional): ring_gain() weights for each bin.
+  [[nodiscard]] StreakAxis streak_axis(const cv::Mat& spectrum, const RingGain* gain = nullptr) const;
 
   /// |k| (rad/px) up to which refine_axis() weights the line by |k|^2.
   static constexpr double kLineWeightCap = 1.0;
@@ -88,9 +106,11 @@ class BlurAnalyzer {
   /// With `high_k_weight`, each bin also counts min(|k|, kLineWeightCap)^2
   /// times: the line's direction is sharpest far from the origin, where the
   /// coarse ground's own anisotropy is small (needs texture well above the
-  /// sensor noise there).
+  /// sensor noise there). `gain` (optional): ring_gain() weights, as in
+  /// streak_axis().
   [[nodiscard]] StreakAxis refine_axis(const cv::Mat& spectrum, const StreakAxis& start,
-                                       double sigma, int iterations, bool high_k_weight = false) const;
+                                       double sigma, int iterations, bool high_k_weight = false,
+                                       const RingGain* gain = nullptr) const;
 
   /// Searches min_px <= L <= max_px along `axis`. With expected_px > 0
   /// (a length predicted from a recent speed), of several streak ends at
@@ -115,6 +135,9 @@ class BlurAnalyzer {
   WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
   DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
+
+  /// ring_gain()'s weight of the bin at (k_row, k_col); 1 without gains.
+  static double gain_at(const RingGain* gain, double kr, double kc);
 };
 
 /// Fills `pair.asymmetry` from the image itself (the sign test for unequal

@@ -54,6 +54,23 @@ struct GvsEstimatorSettings {
   /// (docs/estimator.md, "Short streaks").
   double min_anisotropy = 0.6;
   double min_texture_snr = 0.3;      ///< band power above the noise floor over the noise: below, "no-texture"
+  /// Dark frames: below this texture SNR (with the column pattern taken
+  /// out), the spectrum is taken again with the sensor's whole fixed pattern
+  /// taken out (learnt per pixel from frames of moving ground), and the
+  /// axis weighted by ring_gain(). Under-exposed (mean grey ~10) with 3 ms:
+  /// the pixels' own offsets (DSNU, 1.5 grey levels RMS) are 10x the noise
+  /// left, and above ~15 km/h the streaks average the texture down to well
+  /// below them (docs/estimator.md, "Dark frames").
+  double pixel_pattern_max_texture_snr = 4.0;
+  int pixel_pattern_min_frames = 2;   ///< learnt from at least this many frames before it is used
+  double pixel_pattern_min_shift_px = 20.0;  ///< learnt from frames whose ground moved this far since the last
+  /// Before any pattern is learnt, a frame darker than this (mean grey) with
+  /// a texture SNR below good_texture_snr gives no direction: the column
+  /// pattern (~0.5 grey levels) may be most of what it shows.
+  double unlearnt_max_mean_grey = 30.0;
+  /// Quality factor of a dark frame (pixel pattern taken out): below 0.5, but
+  /// not below the exposure controller's 0.3 where the rest is good.
+  double dark_frame_quality = 0.45;
   double good_texture_snr = 10.0;    ///< full quality from here (normal light: 10-70)
   double refine_min_anisotropy = 0.8; ///< longer streaks: refine the axis on the spectral line
   /// A clear streak end from this length gives the axis (its lag's direction),
@@ -89,6 +106,7 @@ struct GvsEstimatorSettings {
   double min_double_height = 0.05;
   double max_double_second = 0.8;
   double min_energy_confidence = 0.15;  ///< |asymmetry| needed to use it for the sign
+  double good_double_texture_snr = 2.0;  ///< full quality from here; below, quality ~ SNR
   // Sign continuity: the previous direction is trusted this long.
   double continuity_max_age_s = 0.5;
 };
@@ -111,6 +129,10 @@ class GvsEstimator final : public VelocityEstimator {
   void update_mode(double dt_s);
   void learn_column_pattern(const cv::Mat& gray, double mean_grey);
   [[nodiscard]] const float* column_pattern() const;
+  void learn_pixel_pattern(const cv::Mat& gray, double mean_grey);
+  /// Takes the windowed spectrum of `gray` into `spectrum` through `with`,
+  /// without the pixel pattern (pixel_pattern_in_use_) or the column pattern.
+  void take_spectrum(WindowedSpectrum& with, const cv::Mat& gray, cv::Mat& spectrum);
   bool is_still(const cv::Mat& gray, double& ratio) const;
   /// Chooses the sign (+1/-1) of a unit axis in vehicle axes: continuity with
   /// the previous direction, else the pulse-energy vote, else forwards.
@@ -146,6 +168,14 @@ class GvsEstimator final : public VelocityEstimator {
   std::vector<float> column_pattern_;
   std::vector<double> column_sum_;
   int column_frames_ = 0;
+  // The sensor's whole fixed pattern, per pixel (offset from the frame's
+  // mean, grey levels), learnt from frames of moving ground the same way;
+  // used for dark frames only (pixel_pattern_max_texture_snr).
+  cv::Mat pixel_pattern_;  ///< CV_32F
+  int pixel_frames_ = 0;
+  bool pixel_pattern_in_use_ = false;  ///< this frame's single-frame spectra are without it
+  bool single_frame_tried_ = false;    ///< estimate_single() ran on this frame
+  BlurAnalyzer::RingGain ring_gain_{};
   cv::Mat prev_gray_;
   bool prev_valid_ = false;
   bool prev_double_ = false;

@@ -43,6 +43,9 @@ class WindowedSpectrum {
   /// first: the sensor's column fixed-pattern noise, which otherwise looks
   /// exactly like an endless streak along the columns.
   void compute(const cv::Mat& gray, cv::Mat& spectrum, const float* column_offsets = nullptr);
+  /// As above with one offset per pixel (`pixel_offsets`: CV_32F, same size
+  /// as `gray`): the sensor's whole fixed pattern (GvsEstimator learns it).
+  void compute(const cv::Mat& gray, cv::Mat& spectrum, const cv::Mat& pixel_offsets);
 
   [[nodiscard]] cv::Size size() const { return size_; }
 
@@ -52,6 +55,10 @@ class WindowedSpectrum {
   cv::Mat work_;    ///< CV_32F windowed image
   DftPlan dft_{DftPlan::Direction::forward_real_to_complex};
   double window_sum_ = 0.0;
+
+  /// f = (g - offset - m) w with offset(r) a row of offsets (or nullptr).
+  template <class RowOffsets>
+  void compute_with(const cv::Mat& gray, cv::Mat& spectrum, RowOffsets row_offsets);
 };
 
 /// How much of the window WindowedSpectrum applies overlaps with itself
