@@ -71,6 +71,7 @@ struct GvsEstimatorSettings {
   /// Quality factor of a dark frame (pixel pattern taken out): below 0.5, but
   /// not below the exposure controller's 0.3 where the rest is good.
   double dark_frame_quality = 0.45;
+  double dark_max_streak_px = 100.0;  ///< dark frames: longer streaks give no speed (their end is found short)
   double good_texture_snr = 10.0;    ///< full quality from here (normal light: 10-70)
   double refine_min_anisotropy = 0.8; ///< longer streaks: refine the axis on the spectral line
   /// A clear streak end from this length gives the axis (its lag's direction),
