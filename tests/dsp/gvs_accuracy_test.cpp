@@ -171,7 +171,7 @@ TEST(GvsAccuracy, UnderExposedLongStreaksGiveNoShortSpeed) {
   // Accelerating through 15-20 km/h in the dark with 3 ms: 140-160 px
   // streaks, whose end the noise can move. They gave speeds 13 and 17 %
   // slow at quality 0.37-0.45 in this seed (the 10-seed Monte Carlo); a dark
-  // frame now gives a speed from 30-100 px streaks only.
+  // frame now gives a speed from streaks up to 100 px only.
   drivers::SimulatorConfig c = run("accel", 2.3, drivers::LightLevel::under);
   c.seed = 6;
   const RunScore s = run_and_score(c, ExposureMode::fixed);

@@ -125,14 +125,12 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   };
   // A clear streak end: its lag gives the axis from axis_from_streak_end_px,
   // its length the speed from min_length.
-  // A dark frame gives a speed only from a streak end within
-  // [min_streak_px_cold, dark_max_streak_px]: in 10-seed `const`/`accel`
-  // under-exposed runs, ends of 107-162 px were found 5-25 % short (6
-  // frames), one of 22 px 9 % short.
+  // A dark frame gives a speed only from a streak end up to
+  // dark_max_streak_px: in 10-seed `const`/`accel` under-exposed runs, ends
+  // of 107-162 px were found 5-25 % short (6 frames).
   bool clear_end = consistent && accepted(len) && axis.texture_snr >= set_.min_speed_texture_snr;
   bool has_speed = clear_end && len.length_px >= min_length &&
-                   !(pixel_pattern_in_use_ && (len.length_px < set_.min_streak_px_cold ||
-                                               len.length_px > set_.dark_max_streak_px));
+                   !(pixel_pattern_in_use_ && len.length_px > set_.dark_max_streak_px);
   if (has_speed && cold) {
     // The surface is circular: a streak end at lag L' also shows at lag
     // (frame - L') along an axis parallel to the rows or columns. A streak
