@@ -1,6 +1,7 @@
 // BlurAnalyzer set-up: frequency grid and band-pass weight.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "gvs/dsp/blur_analysis.hpp"
 #include "gvs/dsp/geometry.hpp"
@@ -15,6 +16,7 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
   band_.create(size, CV_32F);
   streak_band_.create(size, CV_32F);
   double_band_.create(size, CV_32F);
+  ring_.create(size, CV_8U);
   for (int r = 0; r < size.height; ++r) {
     for (int c = 0; c < size.width; ++c) {
       const double k = std::hypot(k_row_[static_cast<std::size_t>(r)], k_col_[static_cast<std::size_t>(c)]);
@@ -29,6 +31,7 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
         w = 0.5 * (1.0 + std::cos((k - 2.2) / 0.4 * kPi));
       }
       band_.at<float>(r, c) = static_cast<float>(w);
+      ring_.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(std::min(k / kRingWidth, 255.0));
       // Streak length only: also drop the coarse texture (stones of several
       // mm, wavelengths beyond ~30 px), whose few large features in a frame
       // tilt the autocorrelation around the streak end at random.

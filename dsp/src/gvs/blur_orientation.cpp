@@ -11,14 +11,15 @@
 // avoids the angle bias of finite-difference gradients on a square grid.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "gvs/dsp/blur_analysis.hpp"
 
 namespace gvs::dsp {
 
-double BlurAnalyzer::gain_at(const RingGain* gain, double kr, double kc) {
+double BlurAnalyzer::gain_at(const RingGain* gain, const std::uint8_t* ring_row, int c) {
   if (gain == nullptr) return 1.0;
-  const auto ring = static_cast<std::size_t>(std::hypot(kr, kc) / kRingWidth);
+  const auto ring = static_cast<std::size_t>(ring_row[c]);
   return ring < gain->size() ? (*gain)[ring] : 0.0;
 }
 
@@ -30,11 +31,12 @@ void BlurAnalyzer::ring_gain(const cv::Mat& spectrum, const StreakAxis* line, do
     const double kr = k_row_[static_cast<std::size_t>(r)];
     const auto* f = spectrum.ptr<cv::Vec2f>(r);
     const float* w = band_.ptr<float>(r);
+    const auto* rings = ring_.ptr<std::uint8_t>(r);
     for (int c = 0; c < spectrum.cols; ++c) {
       const double kc = k_col_[static_cast<std::size_t>(c)];
       if (w[c] == 0.0f) continue;
       if (line != nullptr && std::abs(kr * line->u_row + kc * line->u_col) > half_width) continue;
-      const auto ring = static_cast<std::size_t>(std::hypot(kr, kc) / kRingWidth);
+      const auto ring = static_cast<std::size_t>(rings[c]);
       if (ring >= sum.size()) continue;
       sum[ring] += static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]);
       count[ring] += 1.0;
@@ -59,6 +61,7 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum, const RingGain* ga
     const double kr = k_row_[static_cast<std::size_t>(r)];
     const auto* f = spectrum.ptr<cv::Vec2f>(r);
     const float* w = band_.ptr<float>(r);
+    const auto* rings = ring_.ptr<std::uint8_t>(r);
     double a_rr = 0.0;
     double a_cc = 0.0;
     double a_rc = 0.0;
@@ -66,7 +69,7 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum, const RingGain* ga
       const double kc = k_col_[static_cast<std::size_t>(c)];
       const double band_power = static_cast<double>(w[c]) *
           (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
-      const double p = gain_at(gain, kr, kc) * band_power;
+      const double p = gain_at(gain, rings, c) * band_power;
       a_cc += p * kc * kc;
       a_rc += p * kc;
       a_rr += p;
@@ -121,13 +124,14 @@ StreakAxis BlurAnalyzer::refine_axis(const cv::Mat& spectrum, const StreakAxis& 
       const double kr = k_row_[static_cast<std::size_t>(r)];
       const auto* f = spectrum.ptr<cv::Vec2f>(r);
       const float* w = band_.ptr<float>(r);
+      const auto* rings = ring_.ptr<std::uint8_t>(r);
       for (int c = 0; c < spectrum.cols; ++c) {
         const double kc = k_col_[static_cast<std::size_t>(c)];
         const double ku = kr * axis.u_row + kc * axis.u_col;
         const double g = ku * ku * inv2s2;
         if (g > 8.0 || w[c] == 0.0f) continue;
         const double k_weight =
-            (high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0) * gain_at(gain, kr, kc);
+            (high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0) * gain_at(gain, rings, c);
         const double p = static_cast<double>(w[c]) * std::exp(-g) * k_weight *
             (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
         m_rr += p * kr * kr;

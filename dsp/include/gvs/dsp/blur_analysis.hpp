@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -136,8 +137,10 @@ class BlurAnalyzer {
   DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
 
-  /// ring_gain()'s weight of the bin at (k_row, k_col); 1 without gains.
-  static double gain_at(const RingGain* gain, double kr, double kc);
+  cv::Mat ring_;     ///< CV_8U ring of |k| per bin (|k| / kRingWidth, at most 255)
+
+  /// ring_gain()'s weight of bin c of a row of ring_; 1 without gains.
+  static double gain_at(const RingGain* gain, const std::uint8_t* ring_row, int c);
 };
 
 /// Fills `pair.asymmetry` from the image itself (the sign test for unequal
