@@ -181,6 +181,41 @@ double separation_us(const ExposurePlan& p) {
   return (p.pulses[1].start_us + p.pulses[1].duration_us / 2.0) - (p.pulses[0].start_us + p.pulses[0].duration_us / 2.0);
 }
 
+// A dark double-pulse frame (texture SNR below min_pulse_texture_snr):
+// longer pulses bring more light, up to dark_max_pulse_blur_px of streak
+// each; once they have, the plan holds (the SNR grew with the light), and a
+// bright frame brings back the short pulses.
+TEST(ExposureControl, DarkDoublePulseFramesGetLongerPulses) {
+  const ExposureLimits lim;
+  const ExposurePlan bright = next_exposure(moving(40.0), ExposurePlan{}, ExposureMode::double_pulse, lim);
+  ASSERT_EQ(bright.pulse_count, 2u);
+  ASSERT_NEAR(streak_px(40.0, bright.pulses[0].duration_us), lim.max_pulse_blur_px, 1e-9);
+
+  VelocityEstimate dark = moving(40.0, "dpiv-cont");
+  dark.texture_snr = 2.5;  // 3 wanted: 2.4 px, within [0.5, 1.5] x 2 px: held
+  EXPECT_EQ(next_exposure(dark, bright, bright, ExposureMode::double_pulse, lim).pulses[0].duration_us,
+            bright.pulses[0].duration_us);
+  dark.texture_snr = 1.2;  // 3 wanted: 5 px
+  const ExposurePlan longer = next_exposure(dark, bright, bright, ExposureMode::double_pulse, lim);
+  ASSERT_EQ(longer.pulse_count, 2u);
+  EXPECT_NEAR(streak_px(40.0, longer.pulses[0].duration_us), 5.0, 1e-6);
+  EXPECT_NEAR(streak_px(40.0, longer.pulses[1].duration_us), 5.0, 1e-6);
+  EXPECT_NEAR(streak_px(40.0, separation_us(longer)), lim.target_shift_px, 0.5);
+
+  dark.texture_snr = 0.5;  // would want 12 px: clamped
+  const ExposurePlan darkest = next_exposure(dark, bright, bright, ExposureMode::double_pulse, lim);
+  EXPECT_NEAR(streak_px(40.0, darkest.pulses[0].duration_us), lim.dark_max_pulse_blur_px, 1e-6);
+
+  // The longer pulses gave 2.5x the light and SNR 3.1: held, not shortened again.
+  dark.texture_snr = 3.1;
+  const ExposurePlan held = next_exposure(dark, longer, longer, ExposureMode::double_pulse, lim);
+  EXPECT_EQ(held.pulses[0].duration_us, longer.pulses[0].duration_us);
+  // The light comes back (SNR 40 at 5 px): short pulses again.
+  dark.texture_snr = 40.0;
+  const ExposurePlan back = next_exposure(dark, longer, longer, ExposureMode::double_pulse, lim);
+  EXPECT_NEAR(streak_px(40.0, back.pulses[0].duration_us), lim.max_pulse_blur_px, 1e-6);
+}
+
 // A 256x192 frame: the double image is found up to ~86 px (0.45 of 192), so
 // the displacement aimed at is 50 px there, not 100.
 TEST(ExposureControl, DoublePulseDisplacementFitsASmallFrame) {

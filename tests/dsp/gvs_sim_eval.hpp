@@ -60,9 +60,9 @@ struct RunScore {
 
 /// Simulates `config` and scores the estimator. `mode` closes the exposure
 /// loop through next_exposure(); `skip_s` ignores the first seconds (start-up).
-inline RunScore run_and_score(const drivers::SimulatorConfig& config, dsp::ExposureMode mode,
-                              double skip_s = 0.0, bool verbose = false) {
-  drivers::Simulator sim(config);
+inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, double skip_s = 0.0,
+                              bool verbose = false) {
+  const drivers::SimulatorConfig& config = sim.config();
   dsp::EstimatorConfig ec;
   ec.method = "gvs";
   ec.camera = config.camera;
@@ -128,6 +128,13 @@ inline RunScore run_and_score(const drivers::SimulatorConfig& config, dsp::Expos
     if (bad && e.quality >= 0.5) ++score.confident_bad;
   }
   return score;
+}
+
+/// The same for a built-in scenario (config.scenario).
+inline RunScore run_and_score(const drivers::SimulatorConfig& config, dsp::ExposureMode mode,
+                              double skip_s = 0.0, bool verbose = false) {
+  drivers::Simulator sim(config);
+  return run_and_score(sim, mode, skip_s, verbose);
 }
 
 inline void print_score(const char* title, const RunScore& s) {

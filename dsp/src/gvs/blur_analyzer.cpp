@@ -48,21 +48,35 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
   }
   power_.create(size, CV_32FC2);
   surface_.create(size, CV_32F);
+  // The noise floor's bins (noise_floor): in each row one run of columns
+  // around k_col = +-pi (|k_col| rises to pi at the middle column).
+  floor_cols_.assign(static_cast<std::size_t>(size.height), {0, 0});
+  for (int r = 0; r < size.height; ++r) {
+    const double kr = k_row_[static_cast<std::size_t>(r)];
+    if (std::abs(kr) < kFloorMinKRow) continue;
+    int first = -1;
+    int last = -1;
+    for (int c = 0; c < size.width; ++c) {
+      const double kc = k_col_[static_cast<std::size_t>(c)];
+      if (kr * kr + kc * kc < kFloorMinK * kFloorMinK) continue;
+      if (first < 0) first = c;
+      last = c;
+    }
+    if (first >= 0) floor_cols_[static_cast<std::size_t>(r)] = {first, last + 1};
+  }
 }
 
 double BlurAnalyzer::noise_floor(const cv::Mat& spectrum) const {
+  // Mean power over the bins with |k| >= 2.7 and |k_row| >= 1.9 (beyond the
+  // texture's band, in the corners of the spectrum), where the bins are
+  // listed per row at construction.
   double sum = 0.0;
   long n = 0;
   for (int r = 0; r < spectrum.rows; ++r) {
-    const double kr = k_row_[static_cast<std::size_t>(r)];
-    if (std::abs(kr) < 1.9) continue;  // |k| > 2.7 needs |k_row| > 2.7 - pi
+    const auto [first, end] = floor_cols_[static_cast<std::size_t>(r)];
     const auto* f = spectrum.ptr<cv::Vec2f>(r);
-    for (int c = 0; c < spectrum.cols; ++c) {
-      const double kc = k_col_[static_cast<std::size_t>(c)];
-      if (kr * kr + kc * kc < 2.7 * 2.7) continue;
-      sum += static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]);
-      ++n;
-    }
+    for (int c = first; c < end; ++c) sum += static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]);
+    n += end - first;
   }
   return n > 0 ? sum / static_cast<double>(n) : 0.0;
 }

@@ -105,6 +105,7 @@ void GvsEstimator::reset() {
   mode_ = Mode::pair;
   column_frames_ = 0;
   pixel_frames_ = 0;
+  last_single_dark_ = false;
   pixel_pattern_.setTo(cv::Scalar::all(0.0));
   std::fill(column_pattern_.begin(), column_pattern_.end(), 0.0f);
 }

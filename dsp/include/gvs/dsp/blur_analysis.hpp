@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -78,6 +79,8 @@ class BlurAnalyzer {
   /// The building blocks below use P(k) - N0 (not clipped at 0: clipping
   /// would leave a third of the noise in).
   [[nodiscard]] double noise_floor(const cv::Mat& spectrum) const;
+  static constexpr double kFloorMinK = 2.7;     ///< noise_floor(): |k| from here (rad/px)
+  static constexpr double kFloorMinKRow = 1.9;  ///< ... and |k_row| from here
 
   /// Rings of |k| (width kRingWidth rad/px, from 0) for ring_gain().
   static constexpr int kRings = 64;
@@ -138,6 +141,8 @@ class BlurAnalyzer {
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
 
   cv::Mat ring_;     ///< CV_8U ring of |k| per bin (|k| / kRingWidth, at most 255)
+  /// noise_floor()'s bins, per row: columns [first, second) (none: first == second).
+  std::vector<std::pair<int, int>> floor_cols_;
 
   /// ring_gain()'s weight of bin c of a row of ring_; 1 without gains.
   static double gain_at(const RingGain* gain, const std::uint8_t* ring_row, int c);

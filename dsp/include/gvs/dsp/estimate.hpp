@@ -23,6 +23,10 @@ struct VelocityEstimate {
   double yaw_rate_dps = 0.0;   ///< CCW from above
 
   double quality = 0.0;  ///< [0, 1]; 0 = nothing measured
+  /// Texture power over the sensor's noise in this frame (single-frame and
+  /// double-pulse analyses; 0 = not measured). The exposure controller
+  /// lengthens the double-pulse pulses (more light) when it is low.
+  double texture_snr = 0.0;
   /// The estimator had measured a speed shortly before this frame (and looked
   /// for this frame's speed near it). Without it, a missing speed is a
   /// start-up miss: the exposure controller then searches the exposures.

@@ -36,6 +36,12 @@ struct ExposureLimits {
   double min_shift_px = 50.0;          ///< re-plan when the predicted displacement leaves
   double max_shift_px = 150.0;         ///<   [min_shift_px, max_shift_px]
   double max_pulse_blur_px = 2.0;      ///< streak allowed within one pulse
+  /// Dark frames: the pulses are lengthened (more light, and more streak per
+  /// pulse, up to dark_max_pulse_blur_px) until the frame's texture SNR
+  /// would reach this. Under-exposed above ~100 km/h two 2 px pulses leave
+  /// an SNR of 0.5-1 (docs/estimator.md, "Double pulse in the dark").
+  double min_pulse_texture_snr = 3.0;
+  double dark_max_pulse_blur_px = 6.0;
   double second_pulse_energy = 1.0;    ///< energy (duration) of pulse 2 relative to pulse 1
   /// Below this speed double_pulse mode uses a continuous max_exposure_us
   /// exposure instead (consecutive frames overlap and pair correlation wins).
@@ -70,9 +76,13 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    measure without an earlier speed). Steps start from the frame's light
 ///    time, so frames in flight under an older plan repeat the plan made.
 ///  - double_pulse: two pulses {0, p} and {dt, p*second_pulse_energy}, dt =
-///    target_shift_px*s/v, p = max_pulse_blur_px*s/v (>= min_pulse_us);
-///    unchanged while the predicted displacement stays within
-///    [min_shift_px, max_shift_px] (scaled to frame_short_side_px); below
+///    target_shift_px*s/v, p = b*s/v (>= min_pulse_us), b = max_pulse_blur_px
+///    px of streak per pulse, or on a dark frame (texture SNR below
+///    min_pulse_texture_snr) the streak that would bring the SNR there
+///    (taking the SNR proportional to the light), up to
+///    dark_max_pulse_blur_px; unchanged while the predicted displacement
+///    stays within [min_shift_px, max_shift_px] (scaled to
+///    frame_short_side_px) and the streak per pulse within [0.5 b, 1.5 b]; below
 ///    double_pulse_min_speed_mps a continuous max_exposure_us exposure.
 ///    Without a speed the separation shrinks 3x per frame, and restarts
 ///    from a 30 m/s guess when it cannot shrink further.

@@ -63,6 +63,12 @@ struct GvsEstimatorSettings {
   /// below them (docs/estimator.md, "Dark frames").
   double pixel_pattern_max_texture_snr = 4.0;
   int pixel_pattern_min_frames = 2;   ///< learnt from at least this many frames before it is used
+  /// A dark frame (mean grey below unlearnt_max_mean_grey) after a dark one
+  /// takes its spectrum without the pixel pattern straight away (one DFT
+  /// less); from this texture SNR (pattern out) it is taken again as for a
+  /// bright frame. Under-exposed with 3 ms the pattern out multiplies the
+  /// SNR by ~8, so this is about pixel_pattern_max_texture_snr.
+  double pixel_pattern_exit_texture_snr = 32.0;
   double pixel_pattern_min_shift_px = 20.0;  ///< learnt from frames whose ground moved this far since the last
   /// Before any pattern is learnt, a frame darker than this (mean grey) with
   /// a texture SNR below good_texture_snr gives no direction: the column
@@ -176,6 +182,7 @@ class GvsEstimator final : public VelocityEstimator {
   int pixel_frames_ = 0;
   bool pixel_pattern_in_use_ = false;  ///< this frame's single-frame spectra are without it
   bool single_frame_tried_ = false;    ///< estimate_single() ran on this frame
+  bool last_single_dark_ = false;      ///< the last single-frame analysis used the pixel pattern
   BlurAnalyzer::RingGain ring_gain_{};
   cv::Mat prev_gray_;
   bool prev_valid_ = false;
