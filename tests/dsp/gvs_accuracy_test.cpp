@@ -185,6 +185,25 @@ TEST(GvsAccuracy, UnderExposedAt10KmhTheLineGivesTheDirection) {
   EXPECT_EQ(s.confident_bad, 0);
 }
 
+TEST(GvsAccuracy, UnderExposedAdaptiveStrobeKeepsTheDirection) {
+  // A short single strobe in the dark holds too little light for a streak
+  // length (texture SNR < 4): the controller now takes the longest exposure
+  // there, whose long streaks keep the direction. Before, it shortened the
+  // strobe and lost it (`const adaptive under`: direction on 51-84 % of the
+  // frames above 15 km/h, 0.5-0.9 deg RMS).
+  drivers::SimulatorConfig c = run("const", 1.5, drivers::LightLevel::under);
+  drivers::Simulator sim(c, drivers::sim::constant_motion_scenario(27.2, 4.8, 0.0, 1.5));
+  const RunScore s = run_and_score(sim, ExposureMode::adaptive, 0.2);
+  print_score("100 km/h adaptive under-exposed 1.5 s", s);
+  const BandScore& b = band(s, 3);
+  ASSERT_GT(b.frames, 70);
+  EXPECT_GE(b.dir_coverage(), 0.99);
+  EXPECT_LE(b.dir_rms(), 0.2);  // the under-exposed figures
+  EXPECT_LE(b.dir_max, 1.0);
+  EXPECT_LE(b.speed_max, 0.05);
+  EXPECT_EQ(s.confident_bad, 0);
+}
+
 TEST(GvsAccuracy, UnderExposedLongStreaksGiveNoShortSpeed) {
   // Accelerating through 15-20 km/h in the dark with 3 ms: 140-160 px
   // streaks, whose end the noise can move. They gave speeds 13 and 17 %

@@ -70,6 +70,30 @@ TEST(ExposureControl, AdaptiveShortensWhenTheStreakIsTooLongToMeasure) {
   EXPECT_EQ(next_exposure(direction_only("blur-cont"), current, ExposureMode::adaptive, {}).exposure_us, 3000.0);
 }
 
+// Dark single-strobe frames: below the texture SNR a streak length needs,
+// a shorter strobe only loses light: the longest exposure (direction from
+// long streaks); up to twice that SNR a too-long streak does not shorten.
+TEST(ExposureControl, AdaptiveInTheDarkTakesTheLongestExposure) {
+  const ExposureLimits lim;
+  VelocityEstimate dark = moving(20.0);  // 500 us: 100 px, but too dark for its length
+  dark.texture_snr = 2.0;
+  EXPECT_EQ(next_exposure(dark, continuous_us(500.0), ExposureMode::adaptive, lim).exposure_us,
+            lim.max_exposure_us);
+  VelocityEstimate dark_long = direction_only("streak-cont");
+  dark_long.texture_snr = 1.0;
+  EXPECT_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
+            lim.max_exposure_us);
+  dark_long.texture_snr = 6.0;  // dim: held, not shortened 4x
+  EXPECT_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
+            lim.max_exposure_us);
+  dark_long.texture_snr = 30.0;  // bright: shortened as before
+  EXPECT_DOUBLE_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
+                   750.0);
+  // Not measured (0, e.g. a pair): the rule does not apply.
+  VelocityEstimate fast = moving(20.0);
+  EXPECT_LT(next_exposure(fast, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us, 3000.0);
+}
+
 TEST(ExposureControl, AdaptiveLengthensWhenTheStreakIsTooShortForADirection) {
   const ExposureLimits lim;
   const VelocityEstimate short_streak = no_estimate(0, 0, "short-streak");

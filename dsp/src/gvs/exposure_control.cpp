@@ -88,7 +88,17 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
   // then ask for the plan already made, instead of stepping again.
   const double t_frame = lit_us(frame);
   if (is_still(latest)) return continuous(lim.max_exposure_us);
-  if (streak_too_long(latest) && !latest.tracking) {
+  // Dark: a streak length needs a texture SNR the short strobe does not
+  // give (under-exposed, a 50 px streak at 40 m/s has 1/24 the light of
+  // 3 ms). The longest exposure keeps the direction (0.1-0.2 deg RMS in the
+  // dark, docs/estimator.md "Dark frames"); its streaks give a speed again
+  // once the car is slow enough for them (up to 100 px).
+  const bool measured_single = frame.pulse_count == 0 && latest.texture_snr > 0.0;
+  if (measured_single && latest.texture_snr < lim.dark_streak_texture_snr) {
+    return continuous(lim.max_exposure_us);
+  }
+  const bool dim = measured_single && latest.texture_snr < 2.0 * lim.dark_streak_texture_snr;
+  if (streak_too_long(latest) && !latest.tracking && !dim) {
     // Direction without speed: the streak outgrew the frame. Shorten hard.
     // (While a speed from the last few frames says the streak is in the
     // band, one such frame is a miss, not a change: hold.)

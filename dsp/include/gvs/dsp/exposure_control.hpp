@@ -31,6 +31,12 @@ struct ExposureLimits {
   double target_streak_px = 50.0;      ///< streak length aimed at when re-planning
   double min_streak_px = 25.0;         ///< re-plan when the predicted streak leaves
   double max_streak_px = 80.0;         ///<   [min_streak_px, max_streak_px] (hysteresis band)
+  /// Dark single-strobe frames: below this texture SNR (the estimator's own
+  /// limit for a speed from a streak) a shorter strobe only loses light, so
+  /// the controller takes max_exposure_us (direction from long streaks, as
+  /// with a fixed exposure); up to twice it, a streak too long to measure
+  /// does not shorten the strobe.
+  double dark_streak_texture_snr = 4.0;
   // double pulse
   double target_shift_px = 100.0;      ///< displacement between the two images aimed at
   double min_shift_px = 50.0;          ///< re-plan when the predicted displacement leaves
@@ -75,6 +81,8 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    the octaves that cannot lock up on a streak the estimator will not
 ///    measure without an earlier speed). Steps start from the frame's light
 ///    time, so frames in flight under an older plan repeat the plan made.
+///    A dark frame (texture SNR below dark_streak_texture_snr) gives
+///    max_exposure_us; one below twice that never shortens the strobe.
 ///  - double_pulse: two pulses {0, p} and {dt, p*second_pulse_energy}, dt =
 ///    target_shift_px*s/v, p = b*s/v (>= min_pulse_us), b = max_pulse_blur_px
 ///    px of streak per pulse, or on a dark frame (texture SNR below
