@@ -93,7 +93,9 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
   // 3 ms). The longest exposure keeps the direction (0.1-0.2 deg RMS in the
   // dark, docs/estimator.md "Dark frames"); its streaks give a speed again
   // once the car is slow enough for them (up to 100 px).
-  const bool measured_single = frame.pulse_count == 0 && latest.texture_snr > 0.0;
+  // (Only frames that gave a direction: texture, if dim. A textureless
+  // frame keeps the plan, as before.)
+  const bool measured_single = frame.pulse_count == 0 && latest.has_direction && latest.texture_snr > 0.0;
   if (measured_single && latest.texture_snr < lim.dark_streak_texture_snr) {
     return continuous(lim.max_exposure_us);
   }

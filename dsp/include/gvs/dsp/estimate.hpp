@@ -24,8 +24,9 @@ struct VelocityEstimate {
 
   double quality = 0.0;  ///< [0, 1]; 0 = nothing measured
   /// Texture power over the sensor's noise in this frame (single-frame and
-  /// double-pulse analyses; 0 = not measured). The exposure controller
-  /// lengthens the double-pulse pulses (more light) when it is low.
+  /// double-pulse analyses; 0 = not measured). When it is low the exposure
+  /// controller lengthens the double-pulse pulses, or in adaptive mode
+  /// takes the longest exposure (more light).
   double texture_snr = 0.0;
   /// The estimator had measured a speed shortly before this frame (and looked
   /// for this frame's speed near it). Without it, a missing speed is a

@@ -45,7 +45,7 @@ struct ExposureLimits {
   /// Dark frames: the pulses are lengthened (more light, and more streak per
   /// pulse, up to dark_max_pulse_blur_px) until the frame's texture SNR
   /// would reach this. Under-exposed above ~100 km/h two 2 px pulses leave
-  /// an SNR of 0.5-1 (docs/estimator.md, "Double pulse in the dark").
+  /// an SNR of 0.5-1 (docs/estimator.md, "Dark frames").
   double min_pulse_texture_snr = 3.0;
   double dark_max_pulse_blur_px = 6.0;
   double second_pulse_energy = 1.0;    ///< energy (duration) of pulse 2 relative to pulse 1
@@ -81,8 +81,9 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    the octaves that cannot lock up on a streak the estimator will not
 ///    measure without an earlier speed). Steps start from the frame's light
 ///    time, so frames in flight under an older plan repeat the plan made.
-///    A dark frame (texture SNR below dark_streak_texture_snr) gives
-///    max_exposure_us; one below twice that never shortens the strobe.
+///    A dark frame with a direction (texture SNR below
+///    dark_streak_texture_snr) gives max_exposure_us; one below twice that
+///    never shortens the strobe.
 ///  - double_pulse: two pulses {0, p} and {dt, p*second_pulse_energy}, dt =
 ///    target_shift_px*s/v, p = b*s/v (>= min_pulse_us), b = max_pulse_blur_px
 ///    px of streak per pulse, or on a dark frame (texture SNR below
