@@ -46,6 +46,14 @@ struct GvsEstimatorSettings {
   double pair_exclude_px = 3.0;      ///< fixed-pattern noise peak at lag 0 (and its spread)
   double pair_min_peak_to_rms = 7.0; ///< below: no match
   double pair_min_quality = 0.3;     ///< below: the pair is not used
+  /// Dark pairs (mean grey below unlearnt_max_mean_grey): both frames'
+  /// halves are taken without the sensor's pixel pattern once it is learnt
+  /// from this many frames. The pattern is the same in both frames and,
+  /// under-exposed, 10x the temporal noise: it outweighed the streaked
+  /// texture in most bins, and from ~2 km/h (20 px streaks) the pair fell
+  /// below pair_min_quality. From 2 frames learnt, the pattern still held
+  /// those frames' texture (`accel` under: one pair 5.5 % slow at quality 1).
+  int pair_pixel_pattern_min_frames = 10;
   double max_accel_mps2 = 20.0;      ///< clamp of the half-frame lag compensation
   // Single-frame blur.
   /// Below: the streak is too short to carry a direction ("short-streak",
@@ -72,7 +80,9 @@ struct GvsEstimatorSettings {
   double pixel_pattern_min_shift_px = 20.0;  ///< learnt from frames whose ground moved this far since the last
   /// Before any pattern is learnt, a frame darker than this (mean grey) with
   /// a texture SNR below good_texture_snr gives no direction: the column
-  /// pattern (~0.5 grey levels) may be most of what it shows.
+  /// pattern (~0.5 grey levels) may be most of what it shows. Below it a
+  /// frame also counts as dark for pairs (pair_pixel_pattern_min_frames)
+  /// and for the straight-to-pattern-out spectrum (pixel_pattern_exit_texture_snr).
   double unlearnt_max_mean_grey = 30.0;
   /// Quality factor of a dark frame (pixel pattern taken out): below 0.5, but
   /// not below the exposure controller's 0.3 where the rest is good.
@@ -140,6 +150,9 @@ class GvsEstimator final : public VelocityEstimator {
   /// Takes the windowed spectrum of `gray` into `spectrum` through `with`,
   /// without the pixel pattern (pixel_pattern_in_use_) or the column pattern.
   void take_spectrum(WindowedSpectrum& with, const cv::Mat& gray, cv::Mat& spectrum);
+  /// The pair's half-window spectra of `gray` into slot `slot`, without the
+  /// pixel pattern if `pattern_out`.
+  void take_halves(const cv::Mat& gray, int slot, bool pattern_out);
   bool is_still(const cv::Mat& gray, double& ratio) const;
   /// Chooses the sign (+1/-1) of a unit axis in vehicle axes: continuity with
   /// the previous direction, else the pulse-energy vote, else forwards.
@@ -167,6 +180,7 @@ class GvsEstimator final : public VelocityEstimator {
   cv::Mat spec_right_[2];
   int cur_ = 0;  ///< index of the current half spectra; 1 - cur_ holds the previous frame's
   bool prev_halves_valid_ = false;
+  bool prev_halves_pattern_out_ = false;  ///< the previous frame's halves were taken without the pixel pattern
   bool halves_this_frame_ = false;
   double cur_mean_grey_ = 0.0;
   double last_axis_anisotropy_ = 1.0;  ///< of the last single-frame analysis
