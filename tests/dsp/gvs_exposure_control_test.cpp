@@ -36,9 +36,14 @@ TEST(ExposureControl, AdaptiveAimsAtTheTargetStreakAndHoldsInsideTheBand) {
   ExposurePlan next = next_exposure(moving(20.0), current, ExposureMode::adaptive, lim);
   EXPECT_EQ(next.pulse_count, 0u);
   EXPECT_NEAR(streak_px(20.0, next.exposure_us), lim.target_streak_px, 0.5);
-  // Speed up by 30 %: streak 65 px, still inside [25, 80]: no change (hysteresis).
+  // Speed up by 30 %: streak 65 px, still inside [40, 80]: no change (hysteresis).
   const ExposurePlan held = next_exposure(moving(26.0), next, ExposureMode::adaptive, lim);
   EXPECT_EQ(held.exposure_us, next.exposure_us);
+  // Slow down by 15 %: 42.5 px, held; by 30 %: 35 px, re-planned (short
+  // streaks read short: min_streak_px).
+  EXPECT_EQ(next_exposure(moving(17.0), next, ExposureMode::adaptive, lim).exposure_us, next.exposure_us);
+  const ExposurePlan slower = next_exposure(moving(14.0), next, ExposureMode::adaptive, lim);
+  EXPECT_NEAR(streak_px(14.0, slower.exposure_us), lim.target_streak_px, 0.5);
   // Double the speed: 100 px, outside: re-plan.
   const ExposurePlan faster = next_exposure(moving(40.0), next, ExposureMode::adaptive, lim);
   EXPECT_NEAR(streak_px(40.0, faster.exposure_us), lim.target_streak_px, 0.5);
