@@ -82,11 +82,14 @@ struct Sensor {
   double noise_grey = 1.5;  ///< temporal
   double fpn_grey = 2.0;    ///< fixed pattern
   std::uint64_t fpn_seed = 99;
+  double falloff = 0.0;  ///< the ring light's brightness loss at the frame's corners (0.3 = 30 %)
 };
 
 /// Renders one 8-bit frame: the ground at p0 (px) at the frame start moving
 /// with image velocity (v_row, v_col) px per time unit, rotating by
 /// omega rad per time unit; pulses say when light reaches the sensor.
+inline cv::Mat sensor_frame(const cv::Mat& texture, const Sensor& sensor, std::uint64_t noise_seed);
+
 inline cv::Mat render_frame(const cv::Mat& tex, cv::Size frame, double p0_row, double p0_col,
                             double phi0, double v_row, double v_col, double omega,
                             const std::vector<Pulse>& pulses, const Sensor& sensor,
@@ -106,7 +109,28 @@ inline cv::Mat render_frame(const cv::Mat& tex, cv::Size frame, double p0_row, d
   }
   // Brightness normalised to the total light (the LED is brighter for short pulses).
   acc /= total;
-  cv::Mat out = acc * sensor.contrast_grey + sensor.mean_grey;
+  return sensor_frame(acc, sensor, noise_seed);
+}
+
+/// The sensor's view of `texture` (zero mean, unit variance, CV_32F): grey
+/// = mean + contrast x texture, times the ring light's fall-off, plus the
+/// fixed pattern and temporal noise, rounded to 8 bits.
+inline cv::Mat sensor_frame(const cv::Mat& texture, const Sensor& sensor, std::uint64_t noise_seed) {
+  const cv::Size frame = texture.size();
+  cv::Mat out = texture * sensor.contrast_grey + sensor.mean_grey;
+  if (sensor.falloff > 0.0) {
+    // Brightness 1 - falloff (r / r_corner)^2: the ring light's fall-off.
+    const double rc = (frame.height - 1) / 2.0;
+    const double cc = (frame.width - 1) / 2.0;
+    const double r2_corner = rc * rc + cc * cc;
+    for (int r = 0; r < frame.height; ++r) {
+      auto* o = out.ptr<float>(r);
+      for (int c = 0; c < frame.width; ++c) {
+        const double r2 = (r - rc) * (r - rc) + (c - cc) * (c - cc);
+        o[c] *= static_cast<float>(1.0 - sensor.falloff * r2 / r2_corner);
+      }
+    }
+  }
   cv::RNG fpn_rng(sensor.fpn_seed);
   cv::Mat fpn(frame, CV_32F);
   fpn_rng.fill(fpn, cv::RNG::NORMAL, 0.0, sensor.fpn_grey);

@@ -244,7 +244,17 @@ bool GvsEstimator::is_still(const cv::Mat& gray, double& ratio) const {
   ratio = diff_sq / nn / (2.0 * var);
   const double rho_right = (sum_right / nn - mean * mean) / var;
   const double rho_down = (sum_down / nn - mean * mean) / var;
-  return ratio < set_.still_ratio && std::min(rho_right, rho_down) >= set_.still_min_neighbour_corr;
+  if (ratio >= set_.still_ratio || std::min(rho_right, rho_down) < set_.still_min_neighbour_corr) return false;
+  // Alike is not unmoved: two frames smeared by a streak longer than the
+  // frame are alike too (each pixel averages centimetres of ground, cracks
+  // along the motion stay put, and the fixed pattern and the light's
+  // fall-off are the same in both). Standstill needs both frames sharp: fine
+  // texture in every direction, well above the sensor's white part.
+  return ground_is_sharp(measure_fine_texture(gray)) && ground_is_sharp(measure_fine_texture(prev_gray_));
+}
+
+bool GvsEstimator::ground_is_sharp(const FineTexture& t) const {
+  return t.isotropy() >= set_.still_min_isotropy && t.weakest_over_difference() >= set_.still_min_fine_texture;
 }
 
 GvsEstimator::SignSource GvsEstimator::resolve_sign(Vec2 axis, std::int64_t t_mid_ns,

@@ -24,6 +24,7 @@
 
 #include "gvs/dsp/blur_analysis.hpp"
 #include "gvs/dsp/estimator.hpp"
+#include "gvs/dsp/fine_texture.hpp"
 #include "gvs/dsp/frame_check.hpp"
 #include "gvs/dsp/geometry.hpp"
 #include "gvs/dsp/phase_correlation.hpp"
@@ -38,6 +39,15 @@ struct GvsEstimatorSettings {
   /// ... and the frame must hold texture, not only the sensor's fixed
   /// pattern: neighbouring pixels correlated at least this much (is_still).
   double still_min_neighbour_corr = 0.3;
+  /// ... and both frames must be sharp (measure_fine_texture): fine texture
+  /// along the weakest direction at least this fraction of the strongest
+  /// (sharp ground 0.85-0.99; a streak of 8 px 0.16-0.24, of 30 px or more
+  /// below 0.1, on the five photographed grounds)
+  double still_min_isotropy = 0.5;
+  /// ... and at least this fraction of the lag-1 difference power (sharp
+  /// ground 1.2-2.2 in normal light, 0.24 under-exposed; the sensor's
+  /// pattern alone ~0; a streak longer than 30 px below 0.1)
+  double still_min_fine_texture = 0.1;
   // Pair <-> single-frame switching on the expected shift between frames (px),
   // with hysteresis: leave pair mode above the first, come back below the second.
   double pair_leave_shift_px = 185.0;
@@ -154,6 +164,7 @@ class GvsEstimator final : public VelocityEstimator {
   /// pixel pattern if `pattern_out`.
   void take_halves(const cv::Mat& gray, int slot, bool pattern_out);
   bool is_still(const cv::Mat& gray, double& ratio) const;
+  [[nodiscard]] bool ground_is_sharp(const FineTexture& texture) const;
   /// Chooses the sign (+1/-1) of a unit axis in vehicle axes: continuity with
   /// the previous direction, else the pulse-energy vote, else forwards.
   SignSource resolve_sign(Vec2 axis_vehicle, std::int64_t t_mid_ns, double energy_vote,
