@@ -129,3 +129,16 @@ TEST(Accuracy, TableAndJsonCarryTheFigures) {
   const std::string json = gvs::daemon::format_accuracy_json(r);
   EXPECT_NE(json.find("\"direction_deg\""), std::string::npos);
 }
+
+TEST(Accuracy, SpeedsOffByMoreThanFivePercentAreCountedPerBand) {
+  // 30 km/h read as 0 (a false standstill) and as 31.6 (5.3 % fast) count; 31.4
+  // (4.7 %) does not, nor 0.8 km/h read as 0.5 (below 1 km/h).
+  const auto r = evaluate_accuracy(
+      {truth(0, 30.0, 0.0), truth(1, 30.0, 0.0), truth(2, 30.0, 0.0), truth(3, 0.8, 0.0)},
+      {estimate(0, 0.0, std::nullopt), estimate(1, 31.6, 0.0), estimate(2, 31.4, 0.0), estimate(3, 0.5, 0.0)});
+  EXPECT_EQ(r.bands[2].speed_off, 2U);
+  EXPECT_EQ(r.bands[0].speed_off, 0U);
+  EXPECT_EQ(r.all.speed_off, 2U);
+  EXPECT_NE(gvs::daemon::format_accuracy_table(r).find("off>5"), std::string::npos);
+  EXPECT_NE(gvs::daemon::format_accuracy_json(r).find("\"speed_off_5pct\": 2"), std::string::npos);
+}

@@ -141,7 +141,11 @@ AccuracyReport evaluate_accuracy(const std::vector<drivers::TruthRecord>& truth,
         ++band->with_direction;
         errs.direction.push_back(dsp::wrap_deg(e->direction_deg - *t.direction_deg));
       }
-      if (moving && e->has_speed) errs.speed_pct.push_back((e->speed_mps - t.speed_mps) / t.speed_mps * 100.0);
+      if (moving && e->has_speed) {
+        const double pct = (e->speed_mps - t.speed_mps) / t.speed_mps * 100.0;
+        errs.speed_pct.push_back(pct);
+        if (kmh >= kWrongSpeedMinKmh && std::abs(pct) > kWrongSpeedPct) ++band->speed_off;
+      }
       if (e->has_yaw_rate && std::isfinite(t.yaw_rate_dps)) errs.yaw.push_back(e->yaw_rate_dps - t.yaw_rate_dps);
     }
     if (constant_direction && kmh >= kMovingKmh && e->has_direction) constant_dir_values.push_back(e->direction_deg);
@@ -177,10 +181,11 @@ std::string band_line(const BandAccuracy& b, const char* label_override = nullpt
   const ErrorStats& s = b.speed_pct;
   const ErrorStats& y = b.yaw_rate_dps;
   char line[512];
-  std::snprintf(line, sizeof line, "%-9s %6zu %11s %11s | %8s %7s %7s %7s | %8s %7s | %7s",
+  std::snprintf(line, sizeof line, "%-9s %6zu %11s %11s | %8s %7s %7s %7s | %8s %7s %7zu | %7s",
                 label, b.frames, coverage_dir, coverage_speed, cell(d.count, d.mean, 3).c_str(),
                 cell(d.count, d.std, 3).c_str(), cell(d.count, d.rms, 3).c_str(), cell(d.count, d.max_abs, 2).c_str(),
-                cell(s.count, s.mean, 2).c_str(), cell(s.count, s.rms, 2).c_str(), cell(y.count, y.rms, 2).c_str());
+                cell(s.count, s.mean, 2).c_str(), cell(s.count, s.rms, 2).c_str(), b.speed_off,
+                cell(y.count, y.rms, 2).c_str());
   return line;
 }
 
@@ -197,15 +202,16 @@ nlohmann::json band_json(const BandAccuracy& b) {
           {"with_speed", b.with_speed},
           {"direction_deg", stats_json(b.direction_deg)},
           {"speed_pct", stats_json(b.speed_pct)},
-          {"yaw_rate_dps", stats_json(b.yaw_rate_dps)}};
+          {"yaw_rate_dps", stats_json(b.yaw_rate_dps)},
+          {"speed_off_5pct", b.speed_off}};
 }
 
 }  // namespace
 
 std::string format_accuracy_table(const AccuracyReport& r) {
   std::string out;
-  out += "band km/h frames   direction       speed | direction error (deg)           | speed error (%)  | yaw (dps)\n";
-  out += "                     frames/moving  /all |     mean     std     rms     max |     mean     rms |     rms\n";
+  out += "band km/h frames   direction       speed | direction error (deg)           | speed error (%)          | yaw (dps)\n";
+  out += "                     frames/moving  /all |     mean     std     rms     max |     mean     rms   off>5 |     rms\n";
   for (const BandAccuracy& b : r.bands) out += band_line(b) + '\n';
   out += band_line(r.all, "all") + '\n';
   char buf[256];

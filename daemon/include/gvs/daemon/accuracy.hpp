@@ -32,7 +32,13 @@ struct BandAccuracy {
   ErrorStats direction_deg;             ///< estimate - truth, wrapped to (-180, 180]
   ErrorStats speed_pct;                 ///< (estimate - truth) / truth * 100, truth >= 0.5 km/h
   ErrorStats yaw_rate_dps;              ///< where both exist
+  /// Speeds off by more than kWrongSpeedPct where the truth is at least
+  /// kWrongSpeedMinKmh: a wrong value on the bus (must be 0).
+  std::size_t speed_off = 0;
 };
+
+constexpr double kWrongSpeedPct = 5.0;
+constexpr double kWrongSpeedMinKmh = 1.0;
 
 /// The thesis's summary of a constant-direction run (its Tab. 4.3).
 struct ConstantDirectionSummary {
