@@ -183,6 +183,10 @@ TEST(Config, TheDocumentedExampleParsesToTheDefaults) {
   EXPECT_EQ(file.source_uri, "sim:sine");
   EXPECT_EQ(file.can_uri, "candump:-");
   EXPECT_EQ(file.staleness_limit_ms, defaults.staleness_limit_ms);
+  EXPECT_EQ(file.min_quality, defaults.min_quality);
+  EXPECT_EQ(file.min_quality, 0.2);
+  EXPECT_TRUE(file.plausibility == defaults.plausibility) << "gvsd.toml's [plausibility] shows the defaults";
+  EXPECT_EQ(file.plausibility.max_accel_mps2, 29.4);
   EXPECT_EQ(file.exposure_mode, defaults.exposure_mode);
   EXPECT_EQ(file.log_level, defaults.log_level);
   EXPECT_EQ(file.health_interval_s, defaults.health_interval_s);
@@ -267,6 +271,52 @@ TEST(Config, OutOfRangeNamesKeyAndRange) {
             std::string::npos);
   EXPECT_NE(error_of("[camera]\nmm_per_px = 0\n").find("mm_per_px = 0 is out of range"), std::string::npos);
   EXPECT_NE(error_of("not toml [").find("not valid TOML"), std::string::npos);
+}
+
+TEST(Config, MinQualityAndPlausibilityKeysAreRead) {
+  const DaemonConfig c = parse_config(R"(
+[can]
+min_quality = 0.35
+[plausibility]
+max_accel_mps2 = 20
+speed_noise_mps = 0.5
+speed_noise_fraction = 0.1
+max_yaw_rate_dps = 250
+direction_noise_deg = 5
+min_direction_speed_mps = 2
+reacquire_count = 8
+track_timeout_ms = 300
+)",
+                                      "test.toml");
+  EXPECT_EQ(c.min_quality, 0.35);
+  EXPECT_EQ(c.plausibility.max_accel_mps2, 20.0);
+  EXPECT_EQ(c.plausibility.speed_noise_mps, 0.5);
+  EXPECT_EQ(c.plausibility.speed_noise_fraction, 0.1);
+  EXPECT_EQ(c.plausibility.max_yaw_rate_dps, 250.0);
+  EXPECT_EQ(c.plausibility.direction_noise_deg, 5.0);
+  EXPECT_EQ(c.plausibility.min_direction_speed_mps, 2.0);
+  EXPECT_EQ(c.plausibility.reacquire_count, 8);
+  EXPECT_EQ(c.plausibility.track_timeout_ms, 300.0);
+  EXPECT_EQ(parse_config("[can]\nmin_quality = 0\n", "t").min_quality, 0.0) << "0 and 1 are allowed";
+  EXPECT_EQ(parse_config("[can]\nmin_quality = 1\n", "t").min_quality, 1.0);
+  // Both are reloadable: changing them needs no restart.
+  EXPECT_TRUE(restart_only_changes(DaemonConfig{}, c).empty());
+}
+
+TEST(Config, MinQualityAndPlausibilityOutOfRangeNameTheKey) {
+  std::string e = error_of("[can]\nmin_quality = 1.5\n");
+  EXPECT_NE(e.find("bad.toml:2: [can] min_quality = 1.5 is out of range (allowed 0 .. 1"), std::string::npos) << e;
+  e = error_of("[can]\nmin_quality = -0.1\n");
+  EXPECT_NE(e.find("[can] min_quality = -0.1 is out of range"), std::string::npos) << e;
+  e = error_of("[can]\nmin_quality = \"high\"\n");
+  EXPECT_NE(e.find("[can] min_quality must be a number"), std::string::npos) << e;
+  e = error_of("[plausibility]\nmax_accel_mps2 = 0.5\n");
+  EXPECT_NE(e.find("[plausibility] max_accel_mps2 = 0.5 is out of range (allowed 1 .. 200 m/s^2)"), std::string::npos)
+      << e;
+  e = error_of("[plausibility]\nreacquire_count = 1\n");
+  EXPECT_NE(e.find("[plausibility] reacquire_count = 1 is out of range"), std::string::npos) << e;
+  e = error_of("[plausibility]\nmax_acel_mps2 = 20\n");
+  EXPECT_NE(e.find("unknown key 'max_acel_mps2' in [plausibility]"), std::string::npos) << e;
 }
 
 TEST(Config, MissingFileSaysSo) {
