@@ -239,7 +239,7 @@ TEST(VelocityFromEstimate, OutOfRangeOrNonFiniteIsInvalidNotClamped) {
 
 TEST(VelocityFromEstimate, LowQualityGoesOutWithEveryValidBitZeroButItsQualityAndAge) {
   auto e = estimate_at(1'000'000'000);
-  e.quality = 0.15;  // below the default min_quality 0.2
+  e.quality = 0.15;  // below the default min_quality 0.3
   const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 12'000'000, {100, 0.2});
   EXPECT_FALSE(p.velocity.valid || p.velocity.speed_valid || p.velocity.direction_valid || p.velocity.yaw_rate_valid);
   EXPECT_FALSE(p.xy.valid);
@@ -303,7 +303,7 @@ TEST(Encoder, AppliesItsMinimumQualityAndRefusesOneOutsideZeroToOne) {
   EXPECT_TRUE(decode(xy, lenient.ids()).xy.valid);
   lenient.estimate_frames(&e, 0, v, xy, false);
   EXPECT_FALSE(decode(v, lenient.ids()).velocity.valid) << "not plausible";
-  EXPECT_EQ(EncoderConfig{}.min_quality, 0.2);
+  EXPECT_EQ(EncoderConfig{}.min_quality, 0.3);
   try {
     Encoder bad({.base_id = kDefaultBaseId, .stale_after_ms = 100, .min_quality = 1.5});
     ADD_FAILURE() << "min_quality 1.5 accepted";

@@ -174,7 +174,7 @@ TEST(Pipeline, StaleEstimateGoesOutInvalidNeverAsFresh) {
 
 TEST(Pipeline, LowQualityEstimatesGoOutInvalidWithTheirQualityAndAge) {
   const std::string log = temp_log("lowq");
-  DaemonConfig c = test_config();  // [can] min_quality 0.2 by default
+  DaemonConfig c = test_config();  // [can] min_quality 0.3 by default
   Pipeline p(c, std::make_unique<ScriptedCamera>(100.0, 1000000), std::make_unique<DoctoredTruth>(0.1, -1, -1),
              can::open_sink("candump:" + log));
   p.start();

@@ -184,7 +184,7 @@ TEST(Config, TheDocumentedExampleParsesToTheDefaults) {
   EXPECT_EQ(file.can_uri, "candump:-");
   EXPECT_EQ(file.staleness_limit_ms, defaults.staleness_limit_ms);
   EXPECT_EQ(file.min_quality, defaults.min_quality);
-  EXPECT_EQ(file.min_quality, 0.2);
+  EXPECT_EQ(file.min_quality, 0.3);
   EXPECT_TRUE(file.plausibility == defaults.plausibility) << "gvsd.toml's [plausibility] shows the defaults";
   EXPECT_EQ(file.plausibility.max_accel_mps2, 29.4);
   EXPECT_EQ(file.exposure_mode, defaults.exposure_mode);
@@ -395,6 +395,7 @@ TEST(Health, LineCarriesTheCounters) {
   now.estimator_failures = 7;
   now.frames_rejected = 5;
   now.frames_dropped = 3;
+  now.implausible_estimates = 2;
   PublishedEstimate latest;
   const std::string line = format_health_line(now, prev, latest, 0, 5.0);
   EXPECT_NE(line.find("capture 300 frames (60.0 fps)"), std::string::npos) << line;
@@ -404,7 +405,14 @@ TEST(Health, LineCarriesTheCounters) {
   EXPECT_NE(line.find("send errors 1"), std::string::npos) << line;
   EXPECT_NE(line.find("estimator failures 7"), std::string::npos) << line;
   EXPECT_NE(line.find("rejected 5 (+5)"), std::string::npos) << line;
+  EXPECT_NE(line.find("implausible 2 (+2)"), std::string::npos) << line;
   EXPECT_NE(line.find("no estimate yet"), std::string::npos) << line;
+  latest.sequence = 9;
+  latest.estimate.has_speed = latest.estimate.has_direction = true;
+  latest.estimate.speed_mps = 0.0;
+  latest.plausible = false;
+  const std::string held = format_health_line(now, prev, latest, 0, 5.0);
+  EXPECT_NE(held.find("implausible (held back)"), std::string::npos) << held;
 }
 
 }  // namespace

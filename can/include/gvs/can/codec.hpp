@@ -86,7 +86,7 @@ CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t c
 /// When an estimate may go out as valid (docs/can-interface.md, "Validity").
 struct ValidityRule {
   std::int64_t stale_after_ms = 50;  ///< older (or from the future by more) -> every Valid bit 0
-  double min_quality = 0.2;          ///< lower quality (or NaN) -> every Valid bit 0
+  double min_quality = 0.3;          ///< lower quality (or NaN) -> every Valid bit 0
 };
 
 /// The two velocity messages for the newest estimate (or none), `now_ns` on
@@ -107,7 +107,7 @@ VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* estimate, std::
 struct EncoderConfig {
   std::uint32_t base_id = kDefaultBaseId;
   std::int64_t stale_after_ms = 50;  ///< older estimates are sent with Valid = 0 (gvsd: staleness_limit_ms)
-  double min_quality = 0.2;          ///< estimates of lower quality are sent with Valid = 0 (gvsd: [can] min_quality)
+  double min_quality = 0.3;          ///< estimates of lower quality are sent with Valid = 0 (gvsd: [can] min_quality)
 };
 
 /// Keeps one alive counter per message; the CAN sender's only codec object.

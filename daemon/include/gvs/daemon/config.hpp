@@ -45,7 +45,7 @@ struct DaemonConfig {
   int status_period_ms = 100;
   double staleness_limit_ms = 50.0;   ///< reloadable
   double late_wakeup_limit_ms = 1.0;  ///< reloadable: a sender wake-up later than this counts as late
-  double min_quality = 0.2;           ///< reloadable: estimates of lower quality go out with every Valid bit 0
+  double min_quality = 0.3;           ///< reloadable: estimates of lower quality go out with every Valid bit 0
   std::uint32_t base_id = 0x300;      ///< CAN ID of GVS_Velocity; the others follow (can/gvs.dbc)
 
   // [camera]

@@ -162,7 +162,7 @@ class Pipeline {
 
   std::atomic<std::int64_t> staleness_ms_{50};
   static_assert(std::atomic<double>::is_always_lock_free, "min_quality_ is read on the RT threads");
-  std::atomic<double> min_quality_{0.2};  ///< [can] min_quality: read by the processing and sender threads
+  std::atomic<double> min_quality_{0.3};  ///< [can] min_quality: read by the processing and sender threads
   std::atomic<std::int64_t> late_limit_ns_{1'000'000};
   std::atomic<bool> stop_{false};
   std::atomic<bool> source_ended_{false};
