@@ -224,6 +224,34 @@ TEST(Pipeline, QualityAtTheThresholdGoesOutValid) {
   EXPECT_GE(valid, 8);
 }
 
+TEST(Pipeline, MinQualityReloadsWhileRunning) {
+  const std::string log = temp_log("reloadq");
+  DaemonConfig c = test_config();  // min_quality 0.3: quality 0.25 goes out invalid
+  Pipeline p(c, std::make_unique<ScriptedCamera>(100.0, 1000000), std::make_unique<DoctoredTruth>(0.25, -1, -1),
+             can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  const std::int64_t reload_real = real_now_ns();
+  c.min_quality = 0.2;
+  p.apply_reloadable(c);  // what SIGHUP does
+  std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  p.request_stop();
+  p.join();
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+  int valid_before = 0, valid_after = 0, after = 0;
+  for (const auto& m : msgs.velocity) {
+    if (m.t_ns < reload_real) valid_before += m.decoded.velocity.valid ? 1 : 0;
+    if (m.t_ns > reload_real + 25 * kNsPerMs) {
+      ++after;
+      valid_after += m.decoded.velocity.valid ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(valid_before, 0) << "quality 0.25 < 0.3";
+  EXPECT_GE(after, 8);
+  EXPECT_EQ(valid_after, after) << "after the reload quality 0.25 >= 0.2";
+}
+
 TEST(Pipeline, ImplausibleStandstillIsHeldBackCountedAndFlagged) {
   const std::string log = temp_log("implausible");
   DaemonConfig c = test_config();
