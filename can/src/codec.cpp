@@ -108,20 +108,23 @@ CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t c
   return f;
 }
 
-VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* e, std::int64_t now_ns,
-                                    std::int64_t stale_after_ms) noexcept {
+VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* e, std::int64_t now_ns, const ValidityRule& rule,
+                                    bool plausible) noexcept {
   VelocityPair out;
   if (e == nullptr) return out;  // all invalid, age 65535
 
   const std::int64_t age_ns = now_ns - e->t_ns;
   const std::int64_t age_ms = age_ns / 1'000'000;
-  const bool fresh = std::llabs(age_ms) <= stale_after_ms;
+  out.fresh = std::llabs(age_ms) <= rule.stale_after_ms;
   out.xy.age_ms = static_cast<std::uint32_t>(std::clamp<std::int64_t>(age_ms, 0, 65535));
-  if (!fresh) return out;
+  VelocityMsg& v = out.velocity;
+  // The receiver sees the quality even when it made the values invalid.
+  v.quality_pct = std::isfinite(e->quality) ? std::clamp(e->quality, 0.0, 1.0) * 100.0 : 0.0;
+  const bool quality_ok = std::isfinite(e->quality) && e->quality >= rule.min_quality;
+  if (!out.fresh || !quality_ok || !plausible) return out;
 
   using namespace sig_velocity;
   const auto& s = kVelocitySignals;
-  VelocityMsg& v = out.velocity;
   v.speed_valid = e->has_speed && in_range(s[kSpeed], e->speed_mps);
   v.direction_valid = e->has_direction && in_range(s[kDirection], e->direction_deg);
   v.yaw_rate_valid = e->has_yaw_rate && in_range(s[kYawRate], e->yaw_rate_dps);
@@ -129,7 +132,6 @@ VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* e, std::int64_t
   if (v.speed_valid) v.speed_mps = e->speed_mps;
   if (v.direction_valid) v.direction_deg = e->direction_deg;
   if (v.yaw_rate_valid) v.yaw_rate_dps = e->yaw_rate_dps;
-  v.quality_pct = std::isfinite(e->quality) ? std::clamp(e->quality, 0.0, 1.0) * 100.0 : 0.0;
 
   const auto& sx = kVelocityXySignals;
   out.xy.valid = e->has_velocity_xy() && in_range(sx[sig_velocity_xy::kVx], e->vx_mps) &&
@@ -146,6 +148,10 @@ Encoder::Encoder(const EncoderConfig& config) : config_(config), ids_{config.bas
   if (config.stale_after_ms <= 0) {
     throw std::invalid_argument("CAN stale_after_ms must be > 0 (got " + std::to_string(config.stale_after_ms) +
                                 "); set it to the age in ms after which estimates are flagged invalid");
+  }
+  if (!(config.min_quality >= 0.0 && config.min_quality <= 1.0)) {
+    throw std::invalid_argument("CAN min_quality must be in 0 .. 1 (got " + std::to_string(config.min_quality) +
+                                "); set it to the lowest estimator quality that may go out as valid");
   }
 }
 
@@ -170,8 +176,9 @@ CanFrame Encoder::timing(const TimingMsg& m) noexcept {
 }
 
 void Encoder::estimate_frames(const dsp::VelocityEstimate* estimate, std::int64_t now_ns, CanFrame& velocity_out,
-                              CanFrame& xy_out) noexcept {
-  const VelocityPair p = velocity_from_estimate(estimate, now_ns, config_.stale_after_ms);
+                              CanFrame& xy_out, bool plausible) noexcept {
+  const VelocityPair p =
+      velocity_from_estimate(estimate, now_ns, {config_.stale_after_ms, config_.min_quality}, plausible);
   velocity_out = velocity(p.velocity);
   xy_out = velocity_xy(p.xy);
 }

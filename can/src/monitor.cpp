@@ -3,6 +3,8 @@
 #include <cinttypes>
 #include <cstdarg>
 #include <cstdio>
+#include <string>
+#include <string_view>
 
 #include "gvs/can/bus_health.hpp"
 #include "gvs/can/e2e.hpp"
@@ -27,6 +29,20 @@ void appendf(std::string& out, const char* fmt, ...) {
 }
 
 const char* yes_no(bool v) { return v ? "yes" : "NO "; }
+
+/// " (Camera, Implausible)": the set fault bits by their DBC names without
+/// the GVS_Fault prefix; empty when none is set.
+std::string fault_names(std::uint16_t faults) {
+  std::string out;
+  for (std::size_t i = sig_status::kFirstFault; i < sig_status::kFirstFault + sig_status::kFaultCount; ++i) {
+    const SignalSpec& sig = kStatusSignals[i];
+    if (((faults >> (sig.start_bit - kFaultFirstBit)) & 1u) == 0) continue;
+    out += out.empty() ? " (" : ", ";
+    out += sig.name.substr(std::string_view("GVS_Fault").size());
+  }
+  if (!out.empty()) out += ')';
+  return out;
+}
 
 }  // namespace
 
@@ -127,8 +143,9 @@ std::string MonitorState::render(std::int64_t now_ns) const {
     out += "vx/vy: no GVS_VelocityXY received\n";
   }
   if (has(MessageKind::Status)) {
-    appendf(out, "state %-9s faults 0x%04X  dropped %u  overruns %u  CAN send errors %u  method %.*s\n",
+    appendf(out, "state %-9s faults 0x%04X%s  dropped %u  overruns %u  CAN send errors %u  method %.*s\n",
             std::string(state_name(static_cast<std::uint8_t>(status_.state))).c_str(), status_.faults,
+            fault_names(status_.faults).c_str(),
             status_.dropped_frames, status_.ring_overruns, status_.can_send_errors,
             static_cast<int>(method_name(status_.method).size()), method_name(status_.method).data());
   }

@@ -125,6 +125,7 @@ TEST(Monitor, RatesCountersAndValues) {
   e.speed_mps = 10.0;
   e.vx_mps = 10.0;
   e.direction_deg = 0.0;
+  e.quality = 0.9;  // above the encoder's min_quality
   for (int cycle = 0; cycle < 100; ++cycle) {
     e.t_ns = t - 5'000'000;
     CanFrame v, x;
@@ -168,6 +169,11 @@ TEST(Monitor, RatesCountersAndValues) {
   const std::string view = mon.render(t + 40'000'000);
   EXPECT_NE(view.find("GVS_Velocity"), std::string::npos);
   EXPECT_NE(view.find("bus-off 1"), std::string::npos) << view;
+  EXPECT_NE(view.find("faults 0x0000  dropped"), std::string::npos) << "no names without faults: " << view;
+  // Fault bits by name, the new GVS_FaultImplausible among them.
+  mon.feed(enc.status({SensorState::Degraded, kFaultCamera | kFaultImplausible, 0, 0, 0, 16}), t + 60'000'000);
+  const std::string flagged = mon.render(t + 60'000'000);
+  EXPECT_NE(flagged.find("faults 0x0801 (Camera, Implausible)"), std::string::npos) << flagged;
 }
 
 TEST(Monitor, SurvivesArbitraryFramesAndTimes) {

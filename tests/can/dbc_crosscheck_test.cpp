@@ -153,13 +153,14 @@ TEST(DbcCrossCheck, TypedEncodersMatchDbc) {
   VelocityXyMsg xy{true, 69.444, -3.215, 17};
   expect_signals(encode_velocity_xy(xy, ids, 9), "GVS_VelocityXY",
                  {{"GVS_Valid", 1}, {"GVS_Vx", 69.444}, {"GVS_Vy", -3.215}, {"GVS_Age", 17}});
-  StatusMsg st{SensorState::Degraded, kFaultCamera | kFaultCanBusOff | kFaultNoRealtime, 201, 7, 250, 16};
+  StatusMsg st{SensorState::Degraded, kFaultCamera | kFaultCanBusOff | kFaultNoRealtime | kFaultImplausible, 201, 7,
+               250, 16};
   expect_signals(encode_status(st, ids, 15), "GVS_Status",
                  {{"GVS_State", 2}, {"GVS_FaultCamera", 1}, {"GVS_FaultEstimateStale", 0},
                   {"GVS_FaultRingOverrun", 0}, {"GVS_FaultDeadlineMiss", 0}, {"GVS_FaultCanBusOff", 1},
                   {"GVS_FaultCanErrorPassive", 0}, {"GVS_FaultCanController", 0},
                   {"GVS_FaultCanInterfaceDown", 0}, {"GVS_FaultCanSendError", 0}, {"GVS_FaultLight", 0},
-                  {"GVS_FaultNoRealtime", 1}, {"GVS_DroppedFrames", 201}, {"GVS_RingOverruns", 7},
+                  {"GVS_FaultNoRealtime", 1}, {"GVS_FaultImplausible", 1}, {"GVS_DroppedFrames", 201}, {"GVS_RingOverruns", 7},
                   {"GVS_CanSendErrors", 250}, {"GVS_Method", 16}});
   // Every fault bit lands in its own DBC signal.
   const DbcMessage& status = *dbc().find("GVS_Status");

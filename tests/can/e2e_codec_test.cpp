@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "gvs/can/codec.hpp"
@@ -165,7 +166,7 @@ dsp::VelocityEstimate estimate_at(std::int64_t t_ns) {
 
 TEST(VelocityFromEstimate, FreshEstimateIsValid) {
   const auto e = estimate_at(1'000'000'000);
-  const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 35'000'000, 100);
+  const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 35'000'000, {100, 0.2});
   EXPECT_TRUE(p.velocity.valid);
   EXPECT_TRUE(p.velocity.yaw_rate_valid);
   EXPECT_DOUBLE_EQ(p.velocity.speed_mps, e.speed_mps);
@@ -176,7 +177,7 @@ TEST(VelocityFromEstimate, FreshEstimateIsValid) {
 
 TEST(VelocityFromEstimate, StaleEstimateIsSentInvalidWithItsAge) {
   const auto e = estimate_at(1'000'000'000);
-  const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 101'000'000, 100);
+  const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 101'000'000, {100, 0.2});
   EXPECT_FALSE(p.velocity.valid || p.velocity.speed_valid || p.velocity.direction_valid || p.velocity.yaw_rate_valid);
   EXPECT_FALSE(p.xy.valid);
   EXPECT_EQ(p.xy.age_ms, 101u);
@@ -196,7 +197,7 @@ TEST(VelocityFromEstimate, StaleEstimateIsSentInvalidWithItsAge) {
 }
 
 TEST(VelocityFromEstimate, NoEstimateYet) {
-  const VelocityPair p = velocity_from_estimate(nullptr, 5, 100);
+  const VelocityPair p = velocity_from_estimate(nullptr, 5, {100, 0.2});
   EXPECT_FALSE(p.velocity.valid);
   EXPECT_FALSE(p.xy.valid);
   EXPECT_EQ(p.xy.age_ms, 65535u);
@@ -206,7 +207,7 @@ TEST(VelocityFromEstimate, EachQuantityHasItsOwnAvailability) {
   auto e = estimate_at(0);
   e.has_speed = false;  // direction but no speed
   e.has_yaw_rate = false;
-  VelocityPair p = velocity_from_estimate(&e, 0, 100);
+  VelocityPair p = velocity_from_estimate(&e, 0, {100, 0.2});
   EXPECT_FALSE(p.velocity.valid);
   EXPECT_FALSE(p.velocity.speed_valid);
   EXPECT_TRUE(p.velocity.direction_valid);
@@ -217,7 +218,7 @@ TEST(VelocityFromEstimate, EachQuantityHasItsOwnAvailability) {
   auto standstill = estimate_at(0);
   standstill.has_direction = false;
   standstill.speed_mps = standstill.vx_mps = standstill.vy_mps = 0.0;
-  p = velocity_from_estimate(&standstill, 0, 100);
+  p = velocity_from_estimate(&standstill, 0, {100, 0.2});
   EXPECT_TRUE(p.velocity.speed_valid);
   EXPECT_FALSE(p.velocity.direction_valid);
   EXPECT_FALSE(p.velocity.valid);
@@ -229,11 +230,89 @@ TEST(VelocityFromEstimate, OutOfRangeOrNonFiniteIsInvalidNotClamped) {
   e.speed_mps = 90.0;  // above GVS_Speed's 81.91 m/s
   e.yaw_rate_dps = 300.0;
   e.vx_mps = std::numeric_limits<double>::quiet_NaN();
-  const VelocityPair p = velocity_from_estimate(&e, 0, 100);
+  const VelocityPair p = velocity_from_estimate(&e, 0, {100, 0.2});
   EXPECT_FALSE(p.velocity.speed_valid);
   EXPECT_FALSE(p.velocity.yaw_rate_valid);
   EXPECT_TRUE(p.velocity.direction_valid);
   EXPECT_FALSE(p.xy.valid);
+}
+
+TEST(VelocityFromEstimate, LowQualityGoesOutWithEveryValidBitZeroButItsQualityAndAge) {
+  auto e = estimate_at(1'000'000'000);
+  e.quality = 0.15;  // below the default min_quality 0.3
+  const VelocityPair p = velocity_from_estimate(&e, 1'000'000'000 + 12'000'000, {100, 0.2});
+  EXPECT_FALSE(p.velocity.valid || p.velocity.speed_valid || p.velocity.direction_valid || p.velocity.yaw_rate_valid);
+  EXPECT_FALSE(p.xy.valid);
+  EXPECT_TRUE(p.fresh) << "doubtful is not stale";
+  EXPECT_EQ(p.xy.age_ms, 12u);
+  EXPECT_NEAR(p.velocity.quality_pct, 15.0, 1e-9);
+  // On the wire: flags 0, values 0, GVS_Quality 15 %, GVS_Age 12 ms.
+  const MessageIds ids;
+  const DecodedFrame d = decode(encode_velocity(p.velocity, ids, 0), ids);
+  EXPECT_FALSE(d.velocity.valid || d.velocity.speed_valid || d.velocity.direction_valid || d.velocity.yaw_rate_valid);
+  EXPECT_EQ(d.velocity.speed_mps, 0.0);
+  EXPECT_EQ(d.velocity.direction_deg, 0.0);
+  EXPECT_EQ(d.velocity.yaw_rate_dps, 0.0);
+  EXPECT_EQ(d.velocity.quality_pct, 15.0);
+  const DecodedFrame dx = decode(encode_velocity_xy(p.xy, ids, 0), ids);
+  EXPECT_FALSE(dx.xy.valid);
+  EXPECT_EQ(dx.xy.vx_mps, 0.0);
+  EXPECT_EQ(dx.xy.vy_mps, 0.0);
+  EXPECT_EQ(dx.xy.age_ms, 12u);
+}
+
+TEST(VelocityFromEstimate, QualityAtTheThresholdIsValid) {
+  auto e = estimate_at(0);
+  e.quality = 0.2;
+  VelocityPair p = velocity_from_estimate(&e, 0, {100, 0.2});
+  EXPECT_TRUE(p.velocity.valid && p.velocity.speed_valid && p.velocity.direction_valid && p.velocity.yaw_rate_valid);
+  EXPECT_TRUE(p.xy.valid);
+  e.quality = std::nextafter(0.2, 0.0);  // the largest quality below it
+  p = velocity_from_estimate(&e, 0, {100, 0.2});
+  EXPECT_FALSE(p.velocity.speed_valid || p.velocity.direction_valid || p.velocity.yaw_rate_valid || p.xy.valid);
+  e.quality = std::numeric_limits<double>::quiet_NaN();
+  p = velocity_from_estimate(&e, 0, {100, 0.0});
+  EXPECT_FALSE(p.velocity.speed_valid || p.xy.valid) << "a NaN quality is never good enough";
+  EXPECT_EQ(p.velocity.quality_pct, 0.0);
+  e.quality = 0.05;
+  p = velocity_from_estimate(&e, 0, {100, 0.0});
+  EXPECT_TRUE(p.velocity.valid) << "min_quality 0 lets every quality through";
+}
+
+TEST(VelocityFromEstimate, ImplausibleEstimateGoesOutInvalid) {
+  const auto e = estimate_at(0);
+  const VelocityPair p = velocity_from_estimate(&e, 3'000'000, {100, 0.2}, false);
+  EXPECT_FALSE(p.velocity.valid || p.velocity.speed_valid || p.velocity.direction_valid || p.velocity.yaw_rate_valid);
+  EXPECT_FALSE(p.xy.valid);
+  EXPECT_TRUE(p.fresh);
+  EXPECT_NEAR(p.velocity.quality_pct, 80.0, 1e-9);
+  EXPECT_EQ(p.xy.age_ms, 3u);
+}
+
+TEST(Encoder, AppliesItsMinimumQualityAndRefusesOneOutsideZeroToOne) {
+  auto e = estimate_at(0);
+  e.quality = 0.3;
+  Encoder strict({.base_id = kDefaultBaseId, .stale_after_ms = 100, .min_quality = 0.5});
+  Encoder lenient({.base_id = kDefaultBaseId, .stale_after_ms = 100, .min_quality = 0.25});
+  CanFrame v, xy;
+  strict.estimate_frames(&e, 0, v, xy);
+  EXPECT_FALSE(decode(v, strict.ids()).velocity.valid);
+  EXPECT_FALSE(decode(xy, strict.ids()).xy.valid);
+  lenient.estimate_frames(&e, 0, v, xy);
+  EXPECT_TRUE(decode(v, lenient.ids()).velocity.valid);
+  EXPECT_TRUE(decode(xy, lenient.ids()).xy.valid);
+  lenient.estimate_frames(&e, 0, v, xy, false);
+  EXPECT_FALSE(decode(v, lenient.ids()).velocity.valid) << "not plausible";
+  EXPECT_EQ(EncoderConfig{}.min_quality, 0.3);
+  try {
+    Encoder bad({.base_id = kDefaultBaseId, .stale_after_ms = 100, .min_quality = 1.5});
+    ADD_FAILURE() << "min_quality 1.5 accepted";
+  } catch (const std::invalid_argument& ex) {
+    EXPECT_NE(std::string(ex.what()).find("min_quality must be in 0 .. 1"), std::string::npos) << ex.what();
+  }
+  EXPECT_THROW(Encoder({.base_id = kDefaultBaseId, .stale_after_ms = 100,
+                        .min_quality = std::numeric_limits<double>::quiet_NaN()}),
+               std::invalid_argument);
 }
 
 TEST(Decode, RejectsForeignAndMalformedFrames) {

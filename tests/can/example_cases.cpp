@@ -42,7 +42,7 @@ ExampleCase status_case(const StatusMsg& m, std::uint8_t counter) {
       "GVS_FaultCamera",        "GVS_FaultEstimateStale",   "GVS_FaultRingOverrun",
       "GVS_FaultDeadlineMiss",  "GVS_FaultCanBusOff",       "GVS_FaultCanErrorPassive",
       "GVS_FaultCanController", "GVS_FaultCanInterfaceDown", "GVS_FaultCanSendError",
-      "GVS_FaultLight",         "GVS_FaultNoRealtime"};
+      "GVS_FaultLight",         "GVS_FaultNoRealtime",      "GVS_FaultImplausible"};
   c.expect["GVS_State"] = static_cast<double>(m.state);
   for (unsigned i = 0; i < std::size(kFaultNames); ++i) c.expect[kFaultNames[i]] = (m.faults >> i) & 1u;
   c.expect["GVS_DroppedFrames"] = m.dropped_frames;
@@ -75,8 +75,9 @@ std::vector<ExampleCase> example_cases() {
   cases.push_back(xy_case({true, -163.835, 163.835, 0}, 5));
   cases.push_back(xy_case({false, 0.0, 0.0, 65535}, 6));
   cases.push_back(status_case({SensorState::Running, 0, 0, 0, 0, 16}, 7));
-  cases.push_back(status_case({SensorState::Fault, 0x07FF, 255, 128, 1, 255}, 8));
+  cases.push_back(status_case({SensorState::Fault, 0x0FFF, 255, 128, 1, 255}, 8));
   cases.push_back(status_case({SensorState::Stopping, kFaultCanInterfaceDown | kFaultLight, 17, 3, 99, 1}, 9));
+  cases.push_back(status_case({SensorState::Degraded, kFaultImplausible, 0, 0, 0, 0}, 12));
   cases.push_back(timing_case({65535, 0, 255}, 10));
   cases.push_back(timing_case({1234, 5678, 9}, 11));
   return cases;

@@ -83,6 +83,30 @@ class SlowEstimator final : public FrameEstimator {
   std::unique_ptr<FrameEstimator> inner_;
 };
 
+/// The source's truth (10 m/s, 2 deg) with quality `quality`, and a false
+/// standstill on the frames with index in [outlier_from, outlier_to].
+class DoctoredTruth final : public FrameEstimator {
+ public:
+  DoctoredTruth(double quality, std::int64_t outlier_from, std::int64_t outlier_to)
+      : quality_(quality), from_(outlier_from), to_(outlier_to), inner_(make_frame_estimator("truth", {})) {}
+  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+    dsp::VelocityEstimate e = inner_->estimate(slot);
+    e.quality = quality_;
+    if (slot.view.index >= from_ && slot.view.index <= to_) {
+      e.speed_mps = e.vx_mps = e.vy_mps = e.direction_deg = 0.0;
+      e.has_direction = false;
+    }
+    return e;
+  }
+  void reset() noexcept override {}
+  std::string name() const override { return "doctored"; }
+
+ private:
+  double quality_;
+  std::int64_t from_, to_;
+  std::unique_ptr<FrameEstimator> inner_;
+};
+
 DaemonConfig test_config() {
   DaemonConfig c;
   c.capture_thread.priority = 0;  // the tests must not take the shared machine's CPUs
@@ -146,6 +170,128 @@ TEST(Pipeline, StaleEstimateGoesOutInvalidNeverAsFresh) {
   EXPECT_EQ(before.state, can::SensorState::Fault);
   EXPECT_EQ(msgs.bad_crc, 0u);
   EXPECT_GT(p.counters().invalid_sent.load(), 10u);
+}
+
+TEST(Pipeline, LowQualityEstimatesGoOutInvalidWithTheirQualityAndAge) {
+  const std::string log = temp_log("lowq");
+  DaemonConfig c = test_config();  // [can] min_quality 0.3 by default
+  Pipeline p(c, std::make_unique<ScriptedCamera>(100.0, 1000000), std::make_unique<DoctoredTruth>(0.1, -1, -1),
+             can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  p.request_stop();
+  p.join();
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+  ASSERT_GT(msgs.velocity.size(), 10u);
+  int fresh_low_quality = 0;
+  for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
+    const auto& v = msgs.velocity[i].decoded.velocity;
+    const auto& xy = msgs.velocity_xy[i].decoded.xy;
+    EXPECT_FALSE(v.valid || v.speed_valid || v.direction_valid || v.yaw_rate_valid || xy.valid)
+        << "a quality 0.1 estimate went out valid in message " << i;
+    EXPECT_EQ(v.speed_mps, 0.0);
+    EXPECT_EQ(xy.vx_mps, 0.0);
+    if (v.quality_pct == 10.0 && xy.age_ms <= 50) ++fresh_low_quality;
+  }
+  EXPECT_GE(fresh_low_quality, 8) << "GVS_Quality and GVS_Age still say what was measured and when";
+  ASSERT_GE(msgs.status.size(), 3u);
+  const auto& s = msgs.status[msgs.status.size() - 2].decoded.status_msg;
+  EXPECT_EQ(s.faults & can::kFaultEstimateStale, 0) << "doubtful is not stale";
+  EXPECT_EQ(s.state, can::SensorState::Degraded);
+  EXPECT_EQ(p.counters().implausible_estimates.load(), 0u) << "the gate does not judge what goes out invalid anyway";
+}
+
+TEST(Pipeline, QualityAtTheThresholdGoesOutValid) {
+  const std::string log = temp_log("atq");
+  DaemonConfig c = test_config();
+  c.min_quality = 0.35;
+  Pipeline p(c, std::make_unique<ScriptedCamera>(100.0, 1000000), std::make_unique<DoctoredTruth>(0.35, -1, -1),
+             can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  p.request_stop();
+  p.join();
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+  int valid = 0;
+  for (const auto& m : msgs.velocity) {
+    if (!m.decoded.velocity.valid) continue;
+    ++valid;
+    EXPECT_NEAR(m.decoded.velocity.speed_mps, 10.0, 0.01);
+    EXPECT_EQ(m.decoded.velocity.quality_pct, 35.0);
+  }
+  EXPECT_GE(valid, 8);
+}
+
+TEST(Pipeline, MinQualityReloadsWhileRunning) {
+  const std::string log = temp_log("reloadq");
+  DaemonConfig c = test_config();  // min_quality 0.3: quality 0.25 goes out invalid
+  Pipeline p(c, std::make_unique<ScriptedCamera>(100.0, 1000000), std::make_unique<DoctoredTruth>(0.25, -1, -1),
+             can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  const std::int64_t reload_real = real_now_ns();
+  c.min_quality = 0.2;
+  p.apply_reloadable(c);  // what SIGHUP does
+  std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  p.request_stop();
+  p.join();
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+  int valid_before = 0, valid_after = 0, after = 0;
+  for (const auto& m : msgs.velocity) {
+    if (m.t_ns < reload_real) valid_before += m.decoded.velocity.valid ? 1 : 0;
+    if (m.t_ns > reload_real + 25 * kNsPerMs) {
+      ++after;
+      valid_after += m.decoded.velocity.valid ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(valid_before, 0) << "quality 0.25 < 0.3";
+  EXPECT_GE(after, 8);
+  EXPECT_EQ(valid_after, after) << "after the reload quality 0.25 >= 0.2";
+}
+
+TEST(Pipeline, ImplausibleStandstillIsHeldBackCountedAndFlagged) {
+  const std::string log = temp_log("implausible");
+  DaemonConfig c = test_config();
+  // 10 m/s at 50 fps; frames 20..22 read a standstill (36 km/h -> 0 in 20 ms).
+  auto camera = std::make_unique<ScriptedCamera>(50.0, 1000000);
+  Pipeline p(c, std::move(camera), std::make_unique<DoctoredTruth>(1.0, 20, 22), can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(900));
+  p.request_stop();
+  p.join();
+  const auto msgs = read_candump_log(log);
+  std::filesystem::remove(log);
+
+  const std::uint64_t held_back = p.counters().implausible_estimates.load();
+  EXPECT_GE(held_back, 1u);
+  EXPECT_LE(held_back, 3u) << "only the three false frames";
+  int fresh_held_back = 0, valid_after = 0;
+  bool seen_held_back = false;
+  for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
+    const auto& v = msgs.velocity[i].decoded.velocity;
+    const auto& xy = msgs.velocity_xy[i].decoded.xy;
+    if (v.speed_valid) {
+      EXPECT_NEAR(v.speed_mps, 10.0, 0.01) << "the false standstill never goes out as valid (message " << i << ")";
+      if (seen_held_back) ++valid_after;
+    } else if (v.quality_pct == 100.0 && xy.age_ms <= 50) {
+      ++fresh_held_back;  // a fresh, quality-1 estimate sent invalid: held back by the gate
+      seen_held_back = true;
+      EXPECT_FALSE(v.valid || v.direction_valid || v.yaw_rate_valid || xy.valid);
+    }
+  }
+  EXPECT_GE(fresh_held_back, 1) << "the held-back estimate goes out with every Valid bit 0";
+  EXPECT_GE(valid_after, 5) << "the real speed goes out valid again";
+  ASSERT_GE(msgs.status.size(), 5u);
+  int flagged = 0;
+  for (std::size_t i = 0; i + 1 < msgs.status.size(); ++i) {  // the last one is Stopping
+    if ((msgs.status[i].decoded.status_msg.faults & can::kFaultImplausible) != 0) ++flagged;
+  }
+  EXPECT_GE(flagged, 1) << "GVS_FaultImplausible in the next status";
+  EXPECT_LE(flagged, 2) << "only in the status periods that held one back";
+  EXPECT_EQ(msgs.status[0].decoded.status_msg.faults & can::kFaultImplausible, 0);
 }
 
 TEST(Pipeline, SlowProcessingCountsOverrunsAndSkipsToTheNewestFrame) {

@@ -183,6 +183,10 @@ TEST(Config, TheDocumentedExampleParsesToTheDefaults) {
   EXPECT_EQ(file.source_uri, "sim:sine");
   EXPECT_EQ(file.can_uri, "candump:-");
   EXPECT_EQ(file.staleness_limit_ms, defaults.staleness_limit_ms);
+  EXPECT_EQ(file.min_quality, defaults.min_quality);
+  EXPECT_EQ(file.min_quality, 0.3);
+  EXPECT_TRUE(file.plausibility == defaults.plausibility) << "gvsd.toml's [plausibility] shows the defaults";
+  EXPECT_EQ(file.plausibility.max_accel_mps2, 29.4);
   EXPECT_EQ(file.exposure_mode, defaults.exposure_mode);
   EXPECT_EQ(file.log_level, defaults.log_level);
   EXPECT_EQ(file.health_interval_s, defaults.health_interval_s);
@@ -269,6 +273,52 @@ TEST(Config, OutOfRangeNamesKeyAndRange) {
   EXPECT_NE(error_of("not toml [").find("not valid TOML"), std::string::npos);
 }
 
+TEST(Config, MinQualityAndPlausibilityKeysAreRead) {
+  const DaemonConfig c = parse_config(R"(
+[can]
+min_quality = 0.35
+[plausibility]
+max_accel_mps2 = 20
+speed_noise_mps = 0.5
+speed_noise_fraction = 0.1
+max_yaw_rate_dps = 250
+direction_noise_deg = 5
+min_direction_speed_mps = 2
+reacquire_count = 8
+track_timeout_ms = 300
+)",
+                                      "test.toml");
+  EXPECT_EQ(c.min_quality, 0.35);
+  EXPECT_EQ(c.plausibility.max_accel_mps2, 20.0);
+  EXPECT_EQ(c.plausibility.speed_noise_mps, 0.5);
+  EXPECT_EQ(c.plausibility.speed_noise_fraction, 0.1);
+  EXPECT_EQ(c.plausibility.max_yaw_rate_dps, 250.0);
+  EXPECT_EQ(c.plausibility.direction_noise_deg, 5.0);
+  EXPECT_EQ(c.plausibility.min_direction_speed_mps, 2.0);
+  EXPECT_EQ(c.plausibility.reacquire_count, 8);
+  EXPECT_EQ(c.plausibility.track_timeout_ms, 300.0);
+  EXPECT_EQ(parse_config("[can]\nmin_quality = 0\n", "t").min_quality, 0.0) << "0 and 1 are allowed";
+  EXPECT_EQ(parse_config("[can]\nmin_quality = 1\n", "t").min_quality, 1.0);
+  // Both are reloadable: changing them needs no restart.
+  EXPECT_TRUE(restart_only_changes(DaemonConfig{}, c).empty());
+}
+
+TEST(Config, MinQualityAndPlausibilityOutOfRangeNameTheKey) {
+  std::string e = error_of("[can]\nmin_quality = 1.5\n");
+  EXPECT_NE(e.find("bad.toml:2: [can] min_quality = 1.5 is out of range (allowed 0 .. 1"), std::string::npos) << e;
+  e = error_of("[can]\nmin_quality = -0.1\n");
+  EXPECT_NE(e.find("[can] min_quality = -0.1 is out of range"), std::string::npos) << e;
+  e = error_of("[can]\nmin_quality = \"high\"\n");
+  EXPECT_NE(e.find("[can] min_quality must be a number"), std::string::npos) << e;
+  e = error_of("[plausibility]\nmax_accel_mps2 = 0.5\n");
+  EXPECT_NE(e.find("[plausibility] max_accel_mps2 = 0.5 is out of range (allowed 1 .. 200 m/s^2)"), std::string::npos)
+      << e;
+  e = error_of("[plausibility]\nreacquire_count = 1\n");
+  EXPECT_NE(e.find("[plausibility] reacquire_count = 1 is out of range"), std::string::npos) << e;
+  e = error_of("[plausibility]\nmax_acel_mps2 = 20\n");
+  EXPECT_NE(e.find("unknown key 'max_acel_mps2' in [plausibility]"), std::string::npos) << e;
+}
+
 TEST(Config, MissingFileSaysSo) {
   EXPECT_THROW((void)load_config_file("/nonexistent/gvsd.toml"), ConfigError);
 }
@@ -345,6 +395,7 @@ TEST(Health, LineCarriesTheCounters) {
   now.estimator_failures = 7;
   now.frames_rejected = 5;
   now.frames_dropped = 3;
+  now.implausible_estimates = 2;
   PublishedEstimate latest;
   const std::string line = format_health_line(now, prev, latest, 0, 5.0);
   EXPECT_NE(line.find("capture 300 frames (60.0 fps)"), std::string::npos) << line;
@@ -354,7 +405,14 @@ TEST(Health, LineCarriesTheCounters) {
   EXPECT_NE(line.find("send errors 1"), std::string::npos) << line;
   EXPECT_NE(line.find("estimator failures 7"), std::string::npos) << line;
   EXPECT_NE(line.find("rejected 5 (+5)"), std::string::npos) << line;
+  EXPECT_NE(line.find("implausible 2 (+2)"), std::string::npos) << line;
   EXPECT_NE(line.find("no estimate yet"), std::string::npos) << line;
+  latest.sequence = 9;
+  latest.estimate.has_speed = latest.estimate.has_direction = true;
+  latest.estimate.speed_mps = 0.0;
+  latest.plausible = false;
+  const std::string held = format_health_line(now, prev, latest, 0, 5.0);
+  EXPECT_NE(held.find("implausible (held back)"), std::string::npos) << held;
 }
 
 }  // namespace

@@ -92,6 +92,8 @@ void reload(const CommandLine& cli, DaemonConfig& running, Pipeline& pipeline) {
       }
       running.staleness_limit_ms = fresh.staleness_limit_ms;
       running.late_wakeup_limit_ms = fresh.late_wakeup_limit_ms;
+      running.min_quality = fresh.min_quality;
+      running.plausibility = fresh.plausibility;
       running.exposure_mode = fresh.exposure_mode;
       running.exposure_initial_us = fresh.exposure_initial_us;
       running.exposure_max_us = fresh.exposure_max_us;
@@ -100,8 +102,10 @@ void reload(const CommandLine& cli, DaemonConfig& running, Pipeline& pipeline) {
       running.health_interval_s = fresh.health_interval_s;
       pipeline.apply_reloadable(running);
       spdlog::set_level(spdlog::level::from_str(running.log_level));
-      spdlog::info("SIGHUP: reloaded {} (staleness limit {} ms, exposure {} max {} us, log level {}, health every {} s)",
-                   cli.config_file, running.staleness_limit_ms, running.exposure_mode, running.exposure_max_us,
+      spdlog::info("SIGHUP: reloaded {} (staleness limit {} ms, min quality {}, max acceleration {} m/s^2, "
+                   "exposure {} max {} us, log level {}, health every {} s)",
+                   cli.config_file, running.staleness_limit_ms, running.min_quality,
+                   running.plausibility.max_accel_mps2, running.exposure_mode, running.exposure_max_us,
                    running.log_level, running.health_interval_s);
     } catch (const std::exception& e) {
       spdlog::error("SIGHUP: keeping the running configuration: {}", e.what());
@@ -143,9 +147,10 @@ int run(const CommandLine& cli) {
     can::SinkOptions sink_options;
     auto sink = can::open_sink(config.can_uri, sink_options);
     spdlog::info("gvsd: source {}, estimator {}, CAN {} (base ID 0x{:03X}, every {} ms, status every {} ms), "
-                 "stale after {} ms, config {}",
+                 "stale after {} ms, min quality {}, max acceleration {} m/s^2, config {}",
                  source->describe(), estimator->name(), sink->description(), config.base_id, config.period_ms,
-                 config.status_period_ms, config.staleness_limit_ms, config.origin);
+                 config.status_period_ms, config.staleness_limit_ms, config.min_quality,
+                 config.plausibility.max_accel_mps2, config.origin);
     if (config.lock_memory) mlock_errno = lock_all_memory();
     PipelineHooks hooks;
     if (config.run_for_s > 0.0) {

@@ -178,6 +178,20 @@ void read_light(Section& top, drivers::StrobeConfig& l, const std::string& origi
   }
 }
 
+// [plausibility]: the vehicle-dynamics gate (plausibility_gate.hpp).
+void read_plausibility(Section& top, PlausibilityLimits& p, const std::string& origin) {
+  Section s(top.table("plausibility"), "plausibility", origin);
+  s.real("max_accel_mps2", p.max_accel_mps2, 1.0, 200.0, "m/s^2");
+  s.real("speed_noise_mps", p.speed_noise_mps, 0.0, 10.0, "m/s");
+  s.real("speed_noise_fraction", p.speed_noise_fraction, 0.0, 1.0, "(share of the tracked speed)");
+  s.real("max_yaw_rate_dps", p.max_yaw_rate_dps, 1.0, 3600.0, "deg/s");
+  s.real("direction_noise_deg", p.direction_noise_deg, 0.0, 180.0, "deg");
+  s.real("min_direction_speed_mps", p.min_direction_speed_mps, 0.1, 100.0, "m/s");
+  s.integer("reacquire_count", p.reacquire_count, 2, 1000, "estimates");
+  s.real("track_timeout_ms", p.track_timeout_ms, 10.0, 60000.0, "ms");
+  s.finish();
+}
+
 }  // namespace
 
 const std::vector<std::string>& log_level_names() {
@@ -213,6 +227,7 @@ DaemonConfig parse_config(std::string_view toml_text, const std::string& origin)
   can.integer("status_period_ms", c.status_period_ms, 1, 10000, "ms");
   can.real("staleness_limit_ms", c.staleness_limit_ms, 1.0, 1000.0, "ms");
   can.real("late_wakeup_limit_ms", c.late_wakeup_limit_ms, 0.01, 1000.0, "ms");
+  can.real("min_quality", c.min_quality, 0.0, 1.0, "(estimator quality; lower goes out with Valid = 0)");
   can.integer("base_id", c.base_id, 0, 0x7FC, "(11-bit CAN ID of GVS_Velocity; 3 more IDs follow)");
   can.finish();
   if (c.status_period_ms % c.period_ms != 0) {
@@ -260,6 +275,7 @@ DaemonConfig parse_config(std::string_view toml_text, const std::string& origin)
                       ", " + fmt_num(c.libcamera_gain_max) + ")");
   }
   read_light(top, c.light, origin);
+  read_plausibility(top, c.plausibility, origin);
 
   Section threads(top.table("threads"), "threads", origin);
   read_thread(threads, "capture", c.capture_thread, origin);

@@ -11,10 +11,10 @@ std::string estimate_text(const PublishedEstimate& latest, std::int64_t now_ns) 
   const dsp::VelocityEstimate& e = latest.estimate;
   const double age_ms = static_cast<double>(now_ns - e.t_ns) / 1e6;
   if (!e.has_speed) return fmt::format("no speed ({}), age {:.0f} ms", e.method, age_ms);
-  return fmt::format("{:.2f} m/s, direction {}, yaw {}, quality {:.2f}, {}, age {:.0f} ms", e.speed_mps,
+  return fmt::format("{:.2f} m/s, direction {}, yaw {}, quality {:.2f}, {}{}, age {:.0f} ms", e.speed_mps,
                      e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
                      e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality,
-                     e.method, age_ms);
+                     e.method, latest.plausible ? "" : ", implausible (held back)", age_ms);
 }
 
 /// The [light] part; empty when no light driver ran.
@@ -33,14 +33,16 @@ std::string format_health_line(const HealthSnapshot& n, const HealthSnapshot& p,
   const double fps = interval_s > 0.0 ? static_cast<double>(n.frames_captured - p.frames_captured) / interval_s : 0.0;
   return fmt::format(
       "health: capture {} frames ({:.1f} fps), ring overruns {} (+{}), dropped {} (+{}), source errors {} (+{}), "
-      "late {} | processing {} frames, skipped {} (+{}), rejected {} (+{}), estimator failures {} (+{}), max {:.2f} ms | "
+      "late {} | processing {} frames, skipped {} (+{}), rejected {} (+{}), estimator failures {} (+{}), "
+      "implausible {} (+{}), max {:.2f} ms | "
       "CAN {} frames sent, {} flagged invalid (+{}), send errors {} (+{}{}), late wake-ups {} (+{}), "
       "missed periods {}, max lateness {:.3f} ms | exposure updates {}{} | latest: {}",
       n.frames_captured, fps, n.ring_overruns, n.ring_overruns - p.ring_overruns, n.frames_dropped,
       n.frames_dropped - p.frames_dropped, n.source_errors, n.source_errors - p.source_errors, n.capture_late,
       n.frames_processed, n.frames_skipped, n.frames_skipped - p.frames_skipped, n.frames_rejected,
       n.frames_rejected - p.frames_rejected, n.estimator_failures,
-      n.estimator_failures - p.estimator_failures, static_cast<double>(n.processing_max_ns) / 1e6, n.frames_sent,
+      n.estimator_failures - p.estimator_failures, n.implausible_estimates,
+      n.implausible_estimates - p.implausible_estimates, static_cast<double>(n.processing_max_ns) / 1e6, n.frames_sent,
       n.invalid_sent, n.invalid_sent - p.invalid_sent, n.send_errors, n.send_errors - p.send_errors,
       n.last_send_errno != 0 ? fmt::format(", last errno {}", n.last_send_errno) : std::string(),
       n.late_wakeups, n.late_wakeups - p.late_wakeups, n.missed_ticks,

@@ -30,6 +30,7 @@ can::EncoderConfig encoder_config(const DaemonConfig& c) {
   can::EncoderConfig e;
   e.base_id = c.base_id;
   e.stale_after_ms = static_cast<std::int64_t>(c.staleness_limit_ms);
+  e.min_quality = c.min_quality;
   return e;
 }
 
@@ -74,6 +75,8 @@ Pipeline::~Pipeline() {
 void Pipeline::apply_reloadable(const DaemonConfig& c) noexcept {
   staleness_ms_.store(static_cast<std::int64_t>(c.staleness_limit_ms), std::memory_order_relaxed);
   late_limit_ns_.store(static_cast<std::int64_t>(c.late_wakeup_limit_ms * 1e6), std::memory_order_relaxed);
+  min_quality_.store(c.min_quality, std::memory_order_relaxed);
+  plausibility_limits_.write(c.plausibility);
   ExposureSettings s;
   if (!dsp::parse_exposure_mode(c.exposure_mode.c_str(), s.mode)) s.mode = dsp::ExposureMode::fixed;
   // Two pulses need a strobe: a camera without a [light] driver exposes

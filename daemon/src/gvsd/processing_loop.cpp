@@ -1,6 +1,7 @@
-// The processing thread: newest frame -> estimator -> latest estimate
-// (seqlock) -> exposure controller -> next exposure plan (seqlock).
+// The processing thread: newest frame -> estimator -> plausibility gate ->
+// latest estimate (seqlock) -> exposure controller -> next exposure plan (seqlock).
 #include <algorithm>
+#include <cmath>
 
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
@@ -51,6 +52,15 @@ void Pipeline::processing_loop() noexcept {
     p.published_ns = t1;
     p.processing_ns = t1 - t0;
     p.exposure_us = slot->view.exposure.exposure_us;
+    // The gate judges only estimates that could go out valid: one below
+    // min_quality is flagged by the sender anyway and must not move the track.
+    if (std::isfinite(e.quality) && e.quality >= min_quality_.load(std::memory_order_relaxed)) {
+      gate_.set_limits(plausibility_limits_.read());
+      if (!publishable(gate_.check(e))) {
+        p.plausible = false;
+        bump(counters_.implausible_estimates);
+      }
+    }
     latest_.write(p);
 
     if (source_->controls_exposure()) {

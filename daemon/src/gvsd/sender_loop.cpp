@@ -38,8 +38,9 @@ void Pipeline::collect_sink_events() noexcept {
   }
 }
 
-can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, bool fresh) noexcept {
+can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, const can::VelocityPair& sent) noexcept {
   const HealthSnapshot now = snapshot(counters_);
+  const bool fresh = sent.fresh;
   can::StatusMsg m;
   const bool camera_fault = now.frames_captured == status_last_.frames_captured ||
                             now.source_errors != status_last_.source_errors;
@@ -51,6 +52,7 @@ can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, bool fresh
   }
   if (now.send_errors != status_last_.send_errors) m.faults |= can::kFaultCanSendError;
   if (!realtime()) m.faults |= can::kFaultNoRealtime;
+  if (now.implausible_estimates != status_last_.implausible_estimates) m.faults |= can::kFaultImplausible;
   m.faults = static_cast<std::uint16_t>(m.faults | sink_->take_fault_bits());
 
   if (stop_.load(std::memory_order_relaxed)) {
@@ -59,7 +61,7 @@ can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, bool fresh
     m.state = can::SensorState::Init;
   } else if (camera_fault && !fresh) {
     m.state = can::SensorState::Fault;
-  } else if (fresh && latest.estimate.has_speed) {
+  } else if (sent.velocity.valid) {
     m.state = can::SensorState::Running;
   } else {
     m.state = can::SensorState::Degraded;
@@ -86,11 +88,12 @@ void Pipeline::sender_loop() noexcept {
     bump(counters_.sender_heartbeat);
     const PublishedEstimate latest = latest_.read();
     const dsp::VelocityEstimate* estimate = latest.sequence != 0 ? &latest.estimate : nullptr;
-    const can::VelocityPair pair =
-        can::velocity_from_estimate(estimate, woke_ns, staleness_ms_.load(std::memory_order_relaxed));
+    const can::ValidityRule rule{staleness_ms_.load(std::memory_order_relaxed),
+                                 min_quality_.load(std::memory_order_relaxed)};
+    const can::VelocityPair pair = can::velocity_from_estimate(estimate, woke_ns, rule, latest.plausible);
 
     if (stop_.load(std::memory_order_relaxed)) {  // tell the ECU we are going
-      send_frame(encoder_.status(make_status(latest, false)));
+      send_frame(encoder_.status(make_status(latest, can::VelocityPair{})));
       collect_sink_events();
       break;
     }
@@ -120,7 +123,7 @@ void Pipeline::sender_loop() noexcept {
     // delays the next status by that period, and a bounded run sends
     // exactly its share).
     if (sent_ticks % status_every == 0) {
-      send_frame(encoder_.status(make_status(latest, pair.velocity.valid)));
+      send_frame(encoder_.status(make_status(latest, pair)));
       can::TimingMsg timing;
       timing.exposure_us = static_cast<std::uint32_t>(latest.exposure_us);
       timing.processing_time_us = static_cast<std::uint32_t>(latest.processing_ns / 1000);

@@ -44,6 +44,7 @@ enum FaultBit : std::uint16_t {
   kFaultCanSendError = 1u << 8,        ///< a send failed (ENOBUFS, EAGAIN, ...) since the last status
   kFaultLight = 1u << 9,               ///< LED ring / strobe fault
   kFaultNoRealtime = 1u << 10,         ///< running without real-time scheduling (desk mode)
+  kFaultImplausible = 1u << 11,        ///< an estimate was held back as physically implausible since the last status
 };
 
 struct StatusMsg {
@@ -82,27 +83,37 @@ CanFrame encode_velocity_xy(const VelocityXyMsg& m, const MessageIds& ids, std::
 CanFrame encode_status(const StatusMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
 CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
 
+/// When an estimate may go out as valid (docs/can-interface.md, "Validity").
+struct ValidityRule {
+  std::int64_t stale_after_ms = 50;  ///< older (or from the future by more) -> every Valid bit 0
+  double min_quality = 0.3;          ///< lower quality (or NaN) -> every Valid bit 0
+};
+
 /// The two velocity messages for the newest estimate (or none), `now_ns` on
-/// the estimate's clock. An estimate older than `stale_after_ms` (or from the
-/// future by more than that) is sent with every Valid bit 0 and values 0;
-/// GVS_Age still says how old it is. Quantities out of the DBC range are
+/// the estimate's clock. A quantity's Valid bit is 1 only when the estimate
+/// has it, it lies in its DBC range, the estimate is fresh (`stale_after_ms`),
+/// its quality is >= `min_quality` and the daemon found it `plausible`;
+/// otherwise the bit is 0 and the value 0. GVS_Quality always carries the
+/// estimate's quality and GVS_Age its age. Quantities out of the DBC range are
 /// flagged invalid, never clamped and passed off as valid.
 struct VelocityPair {
   VelocityMsg velocity;
   VelocityXyMsg xy;
+  bool fresh = false;  ///< an estimate within the stale limit (GVS_FaultEstimateStale = !fresh)
 };
 VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* estimate, std::int64_t now_ns,
-                                    std::int64_t stale_after_ms) noexcept;
+                                    const ValidityRule& rule, bool plausible = true) noexcept;
 
 struct EncoderConfig {
   std::uint32_t base_id = kDefaultBaseId;
   std::int64_t stale_after_ms = 50;  ///< older estimates are sent with Valid = 0 (gvsd: staleness_limit_ms)
+  double min_quality = 0.3;          ///< estimates of lower quality are sent with Valid = 0 (gvsd: [can] min_quality)
 };
 
 /// Keeps one alive counter per message; the CAN sender's only codec object.
 class Encoder {
  public:
-  /// Throws std::invalid_argument for a bad base ID or stale limit.
+  /// Throws std::invalid_argument for a bad base ID, stale limit or minimum quality.
   explicit Encoder(const EncoderConfig& config);
 
   [[nodiscard]] const MessageIds& ids() const { return ids_; }
@@ -115,7 +126,7 @@ class Encoder {
 
   /// Both 20 ms frames for the newest estimate (nullptr = none yet).
   void estimate_frames(const dsp::VelocityEstimate* estimate, std::int64_t now_ns, CanFrame& velocity_out,
-                       CanFrame& xy_out) noexcept;
+                       CanFrame& xy_out, bool plausible = true) noexcept;
 
  private:
   std::uint8_t next_counter(MessageKind kind) noexcept;

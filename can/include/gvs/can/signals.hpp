@@ -93,14 +93,15 @@ inline constexpr SignalSpec kStatusSignals[] = {
     {"GVS_FaultCanSendError",    24, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
     {"GVS_FaultLight",           25, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
     {"GVS_FaultNoRealtime",      26, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
+    {"GVS_FaultImplausible",     27, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
     {"GVS_DroppedFrames",        32, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
     {"GVS_RingOverruns",         40, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
     {"GVS_CanSendErrors",        48, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
     {"GVS_Method",               56, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
 };
 namespace sig_status {
-inline constexpr std::size_t kState = 2, kFirstFault = 3, kFaultCount = 11, kDroppedFrames = 14,
-                             kRingOverruns = 15, kCanSendErrors = 16, kMethod = 17;
+inline constexpr std::size_t kState = 2, kFirstFault = 3, kFaultCount = 12, kDroppedFrames = 15,
+                             kRingOverruns = 16, kCanSendErrors = 17, kMethod = 18;
 }
 
 inline constexpr SignalSpec kTimingSignals[] = {

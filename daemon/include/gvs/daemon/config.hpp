@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gvs/daemon/plausibility_gate.hpp"
 #include "gvs/drivers/strobe.hpp"
 #include "gvs/dsp/frame.hpp"
 
@@ -44,6 +45,7 @@ struct DaemonConfig {
   int status_period_ms = 100;
   double staleness_limit_ms = 50.0;   ///< reloadable
   double late_wakeup_limit_ms = 1.0;  ///< reloadable: a sender wake-up later than this counts as late
+  double min_quality = 0.3;           ///< reloadable: estimates of lower quality go out with every Valid bit 0
   std::uint32_t base_id = 0x300;      ///< CAN ID of GVS_Velocity; the others follow (can/gvs.dbc)
 
   // [camera]
@@ -71,6 +73,9 @@ struct DaemonConfig {
   double libcamera_retry_interval_ms = 500.0;
   // [light] LED ring and trigger (drivers/strobe.hpp); restart only
   drivers::StrobeConfig light;
+
+  // [plausibility] (reloadable; daemon/include/gvs/daemon/plausibility_gate.hpp)
+  PlausibilityLimits plausibility;
 
   // [threads]
   ThreadConfig capture_thread{80, -1};

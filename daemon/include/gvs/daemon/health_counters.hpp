@@ -37,6 +37,7 @@ struct HealthCounters {
   std::atomic<std::uint64_t> frames_skipped{0};    ///< older frames passed over for the newest
   std::atomic<std::uint64_t> estimator_failures{0};///< frames without a speed estimate
   std::atomic<std::uint64_t> frames_rejected{0};   ///< bad input frames (unreadable, wrong size or exposure, time backwards)
+  std::atomic<std::uint64_t> implausible_estimates{0};///< held back by the plausibility gate
   std::atomic<std::int64_t> processing_max_ns{0};
   std::atomic<std::uint64_t> processing_heartbeat{0};
   // sender thread
@@ -45,7 +46,7 @@ struct HealthCounters {
   std::atomic<std::uint64_t> missed_ticks{0};      ///< whole periods skipped
   std::atomic<std::uint64_t> send_errors{0};
   std::atomic<std::uint64_t> frames_sent{0};
-  std::atomic<std::uint64_t> invalid_sent{0};      ///< velocity messages flagged invalid (stale / no estimate)
+  std::atomic<std::uint64_t> invalid_sent{0};      ///< velocity messages flagged invalid (stale, no estimate, low quality, implausible)
   std::atomic<std::int64_t> wakeup_late_max_ns{0};
   std::atomic<int> last_send_errno{0};
   std::atomic<std::uint64_t> sender_heartbeat{0};
@@ -57,7 +58,8 @@ struct HealthSnapshot {
                 capture_late = 0, exposure_updates = 0;
   std::uint64_t light_plans = 0, light_edges = 0, light_late_edges = 0, light_errors = 0;
   std::int64_t light_late_max_ns = 0;
-  std::uint64_t frames_processed = 0, frames_skipped = 0, estimator_failures = 0, frames_rejected = 0;
+  std::uint64_t frames_processed = 0, frames_skipped = 0, estimator_failures = 0, frames_rejected = 0,
+                implausible_estimates = 0;
   std::int64_t processing_max_ns = 0;
   std::uint64_t sender_ticks = 0, late_wakeups = 0, missed_ticks = 0, send_errors = 0,
                 frames_sent = 0, invalid_sent = 0;
@@ -83,6 +85,7 @@ inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
   s.frames_skipped = c.frames_skipped.load(r);
   s.estimator_failures = c.estimator_failures.load(r);
   s.frames_rejected = c.frames_rejected.load(r);
+  s.implausible_estimates = c.implausible_estimates.load(r);
   s.processing_max_ns = c.processing_max_ns.load(r);
   s.sender_ticks = c.sender_ticks.load(r);
   s.late_wakeups = c.late_wakeups.load(r);

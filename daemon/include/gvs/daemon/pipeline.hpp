@@ -20,6 +20,7 @@
 #include "gvs/daemon/frame_slot.hpp"
 #include "gvs/daemon/frame_source.hpp"
 #include "gvs/daemon/health_counters.hpp"
+#include "gvs/daemon/plausibility_gate.hpp"
 #include "gvs/daemon/published_estimate.hpp"
 #include "gvs/daemon/rt.hpp"
 #include "gvs/daemon/seqlock.hpp"
@@ -136,7 +137,7 @@ class Pipeline {
   void run_thread(ThreadRole role, const ThreadConfig& config);
   void send_frame(const can::CanFrame& frame) noexcept;
   void collect_sink_events() noexcept;
-  can::StatusMsg make_status(const PublishedEstimate& latest, bool fresh) noexcept;
+  can::StatusMsg make_status(const PublishedEstimate& latest, const can::VelocityPair& sent) noexcept;
 
   DaemonConfig config_;
   std::unique_ptr<FrameSource> source_;
@@ -155,9 +156,13 @@ class Pipeline {
   Seqlock<PublishedEstimate> latest_;
   Seqlock<dsp::ExposurePlan> exposure_request_;
   Seqlock<ExposureSettings> exposure_settings_;  ///< written by the main thread (reload)
+  Seqlock<PlausibilityLimits> plausibility_limits_;  ///< written by the main thread (reload)
+  PlausibilityGate gate_;  ///< processing thread only
   can::Encoder encoder_;
 
   std::atomic<std::int64_t> staleness_ms_{50};
+  static_assert(std::atomic<double>::is_always_lock_free, "min_quality_ is read on the RT threads");
+  std::atomic<double> min_quality_{0.3};  ///< [can] min_quality: read by the processing and sender threads
   std::atomic<std::int64_t> late_limit_ns_{1'000'000};
   std::atomic<bool> stop_{false};
   std::atomic<bool> source_ended_{false};

@@ -14,6 +14,9 @@ struct PublishedEstimate {
   std::int64_t published_ns = 0;   ///< when the processing thread published this (monotonic)
   std::int64_t processing_ns = 0;  ///< time spent in the estimator
   double exposure_us = 0.0;        ///< exposure of the frame
+  /// false: the plausibility gate held the estimate back (sent with every
+  /// Valid bit 0); the estimate itself is kept as measured, for the log.
+  bool plausible = true;
 };
 
 }  // namespace gvs::daemon
