@@ -43,6 +43,11 @@ struct SimulatorConfig {
   /// the frame rate on 2 cores. Same statistics, other stones; datasets
   /// (`gvs sim`) and every accuracy figure use the non-periodic texture.
   bool periodic_texture = false;
+  /// The ground: "procedural" (the asphalt above) or "photo:FILE[:MM_PER_PIXEL]",
+  /// a seamless square photo at MM_PER_PIXEL (default 0.2) in randomised,
+  /// blended tiles (docs/simulator.md, "Photographed ground"; syntax:
+  /// sim::parse_ground). config() reports the canonical text.
+  std::string ground = "procedural";
 };
 
 /// One rendered frame with its record and truth.
