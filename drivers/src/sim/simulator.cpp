@@ -177,7 +177,7 @@ struct Simulator::Impl {
   }
   /// The procedural asphalt of the seed (periodic and rendered into a tile
   /// when asked for), or the photo. A photo ground is sampled directly even
-  /// for periodic_texture: a lookup in it costs about as much as one in a tile.
+  /// for periodic_texture: a lookup in it costs within 2x of one in a tile.
   void make_ground(const sim::GroundSpec& spec) {
     if (spec.kind == sim::GroundSpec::Kind::photo) {
       ground = std::make_unique<sim::PhotoGround>(spec.photo_file, spec.photo_mm_per_pixel, config.seed);
