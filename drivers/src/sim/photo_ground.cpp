@@ -7,12 +7,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "gvs/drivers/sim/ground_spec.hpp"
 #include "hash.hpp"
 
 namespace gvs::drivers::sim {
@@ -21,7 +23,10 @@ namespace {
 constexpr std::uint64_t kTileSalt = 0x9407;
 
 cv::Mat load_grey(const std::string& file) {
-  const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
+  // Checked first so that a missing file is not also reported by OpenCV's own warning.
+  std::error_code ec;
+  const bool exists = std::filesystem::is_regular_file(file, ec);
+  const cv::Mat grey = exists ? cv::imread(file, cv::IMREAD_GRAYSCALE) : cv::Mat();
   if (grey.empty())
     throw std::invalid_argument("simulator: ground photo '" + file +
                                 "' is missing or not a readable image; give a seamless square 8-bit grey PNG, "
@@ -61,7 +66,7 @@ PhotoGround::PhotoGround(const cv::Mat& grey, double mm_per_pixel, std::uint64_t
                                 std::to_string(grey.rows) +
                                 " px; it must be square (the tiles turn by 90 deg) and at least 16 px: crop it "
                                 "to a seamless square");
-  if (!(mm_per_pixel >= 0.01 && mm_per_pixel <= 5.0))
+  if (!(mm_per_pixel >= GroundSpec::kMinPhotoMmPerPixel && mm_per_pixel <= GroundSpec::kMaxPhotoMmPerPixel))
     throw std::invalid_argument("simulator: ground photo '" + name + "': mm per photo pixel " +
                                 std::to_string(mm_per_pixel) + " must be in [0.01, 5] (real asphalt: about 0.1-0.3)");
   n_ = grey.rows;

@@ -309,6 +309,28 @@ TEST(SimPhotoGround, RandomAccessEqualsTheSequentialRun) {
   fs::remove_all(dir);
 }
 
+TEST(SimPhotoGround, LiveConfigurationSamplesThePhotoDirectly) {
+  // gvsd's sim: source sets periodic_texture; a photo ground ignores it (no
+  // tile), so the live camera sees the same ground as a dataset of the seed.
+  const fs::path dir = temp_dir();
+  const fs::path photo = dir / "noise.png";
+  ASSERT_TRUE(cv::imwrite(photo.string(), seamless_noise(256, 9)));
+  SimulatorConfig c;
+  c.scenario = "sine";
+  c.seconds = 0.2;
+  c.camera.width_px = 128;
+  c.camera.height_px = 96;
+  c.ground = "photo:" + photo.string();
+  Simulator dataset(c);
+  c.periodic_texture = true;
+  Simulator live(c);
+  SimFrame a, b;
+  dataset.render(4, dataset.exposure(), a);
+  live.render(4, live.exposure(), b);
+  EXPECT_EQ(cv::norm(a.gray, b.gray, cv::NORM_INF), 0.0);
+  fs::remove_all(dir);
+}
+
 TEST(SimPhotoGround, RealPhotoIsAsBrightAsTheProceduralAsphaltUnderTheSameLight) {
   // The run's gain is set from frame 0's mean signal: a photo mapped to the
   // procedural mean reflectance needs about the same gain.
