@@ -73,6 +73,7 @@ CameraInfo read_camera_json(const fs::path& file) {
   if (j.contains("description") && j.at("description").is_string()) {
     cam.description = j.at("description").get<std::string>();
   }
+  if (j.contains("ground") && j.at("ground").is_string()) cam.ground = j.at("ground").get<std::string>();
   return cam;
 }
 

@@ -58,6 +58,7 @@ DatasetWriter::DatasetWriter(const fs::path& folder, const CameraInfo& camera, b
   j["mm_per_px"] = camera.geometry.mm_per_px;
   j["mount_yaw_deg"] = camera.geometry.mount_yaw_deg;
   j["description"] = camera.description;
+  if (!camera.ground.empty()) j["ground"] = camera.ground;
   std::ofstream cam = open_for_writing(folder / "camera.json");
   cam << j.dump(2) << '\n';
 

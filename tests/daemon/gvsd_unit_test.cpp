@@ -319,6 +319,23 @@ TEST(Config, MinQualityAndPlausibilityOutOfRangeNameTheKey) {
   EXPECT_NE(e.find("unknown key 'max_acel_mps2' in [plausibility]"), std::string::npos) << e;
 }
 
+TEST(Config, SimGroundIsReadAndCheckedAtStartUp) {
+  EXPECT_EQ(DaemonConfig{}.sim_ground, "procedural");
+  EXPECT_EQ(parse_config("[source]\nsim_ground = \"photo:/data/asphalt.png:0.15\"\n", "t.toml").sim_ground,
+            "photo:/data/asphalt.png:0.15");
+  const std::string unknown = error_of("[source]\nsim_ground = \"gravel\"\n");
+  EXPECT_NE(unknown.find("bad.toml: [source] sim_ground"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("photo:FILE[:MM_PER_PIXEL]"), std::string::npos) << unknown;
+  const std::string scale = error_of("[source]\nsim_ground = \"photo:asphalt.png:big\"\n");
+  EXPECT_NE(scale.find("asphalt.png"), std::string::npos) << scale;
+  DaemonConfig a;
+  DaemonConfig b;
+  b.sim_ground = "photo:asphalt.png";
+  const auto changed = restart_only_changes(a, b);
+  ASSERT_EQ(changed.size(), 1u);
+  EXPECT_EQ(changed[0], "source.sim_ground");
+}
+
 TEST(Config, MissingFileSaysSo) {
   EXPECT_THROW((void)load_config_file("/nonexistent/gvsd.toml"), ConfigError);
 }

@@ -33,7 +33,9 @@ void run_sim(const SimOptions& o) {
   drivers::Simulator sim(config);
   drivers::CameraInfo camera;
   camera.geometry = config.camera;
+  camera.ground = sim.config().ground;
   camera.description = "gvs sim --scenario " + config.scenario + " --seed " + std::to_string(config.seed);
+  if (camera.ground != "procedural") camera.description += " --ground " + camera.ground;
   drivers::DatasetWriter writer(o.out, camera, /*with_truth=*/true);
 
   // Closed loop: the estimator measures each frame as gvsd would, and the
@@ -68,8 +70,8 @@ void run_sim(const SimOptions& o) {
     }
   }
   writer.close();
-  std::printf("wrote %zu frames of scenario '%s' (exposure %s) to %s\n", count, config.scenario.c_str(),
-              o.exposure_mode.c_str(), o.out.c_str());
+  std::printf("wrote %zu frames of scenario '%s' (exposure %s, ground %s) to %s\n", count, config.scenario.c_str(),
+              o.exposure_mode.c_str(), camera.ground.c_str(), o.out.c_str());
 }
 
 }  // namespace
@@ -96,6 +98,10 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--loop-method", opts->loop_method, "Estimator closing the exposure loop")->capture_default_str();
   cmd->add_option("--light", opts->light, "Scene brightness: normal, under (mean grey ~10), over (~15 % saturated)")
       ->check(CLI::IsMember({"normal", "under", "over"}))
+      ->capture_default_str();
+  cmd->add_option("--ground", opts->config.ground,
+                  "Ground: procedural (the simulated asphalt) or photo:FILE[:MM_PER_PIXEL], a seamless square "
+                  "grey photo at MM_PER_PIXEL (default 0.2) laid in randomised, blended tiles")
       ->capture_default_str();
   cmd->add_option("--width", opts->config.camera.width_px, "Image width, px")->check(CLI::Range(16, 4096));
   cmd->add_option("--height", opts->config.camera.height_px, "Image height, px")->check(CLI::Range(16, 4096));

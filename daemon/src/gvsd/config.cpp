@@ -7,8 +7,11 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <toml++/toml.h>
+
+#include "gvs/drivers/sim/ground_spec.hpp"
 
 namespace gvs::daemon {
 
@@ -218,8 +221,14 @@ DaemonConfig parse_config(std::string_view toml_text, const std::string& origin)
   source.integer("ring_slots", c.ring_slots, 2, 64, "frames");
   source.real("sim_fps", c.sim_fps, 1.0, 1000.0, "frames/s");
   source.integer("sim_seed", c.sim_seed, 0, std::int64_t{1} << 53, "");
+  source.text("sim_ground", c.sim_ground);
   source.real("replay_preload_limit_mb", c.replay_preload_limit_mb, 1.0, 65536.0, "MiB");
   source.finish();
+  try {
+    (void)drivers::sim::parse_ground(c.sim_ground);  // the photo itself is read when the source starts
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(origin + ": [source] sim_ground: " + e.what());
+  }
 
   Section can(top.table("can"), "can", origin);
   can.text("uri", c.can_uri);
@@ -311,6 +320,7 @@ std::vector<std::string> restart_only_changes(const DaemonConfig& a, const Daemo
   check(a.ring_slots != b.ring_slots, "source.ring_slots");
   check(a.sim_fps != b.sim_fps, "source.sim_fps");
   check(a.sim_seed != b.sim_seed, "source.sim_seed");
+  check(a.sim_ground != b.sim_ground, "source.sim_ground");
   check(a.replay_preload_limit_mb != b.replay_preload_limit_mb, "source.replay_preload_limit_mb");
   check(a.can_uri != b.can_uri, "can.uri");
   check(a.period_ms != b.period_ms, "can.period_ms");

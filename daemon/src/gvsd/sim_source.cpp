@@ -24,7 +24,9 @@ SimSource::SimSource(const drivers::SimulatorConfig& config) : sim_(config), con
 std::string SimSource::describe() const {
   std::ostringstream s;
   s << "sim:" << config_.scenario << " (" << config_.fps << " fps, " << config_.camera.width_px << 'x'
-    << config_.camera.height_px << " px, looping)";
+    << config_.camera.height_px << " px, looping";
+  if (sim_.config().ground != "procedural") s << ", ground " << sim_.config().ground;
+  s << ')';
   return s.str();
 }
 

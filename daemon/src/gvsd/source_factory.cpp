@@ -42,6 +42,7 @@ std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config) {
     sim.scenario = rest;
     sim.fps = config.sim_fps;
     sim.seed = static_cast<std::uint64_t>(config.sim_seed);
+    sim.ground = config.sim_ground;
     sim.exposure_us = config.exposure_initial_us;
     sim.camera = config.camera;
     sim.loop = true;

@@ -5,39 +5,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "ground.hpp"
+
 namespace gvs::drivers::sim {
 
-/// A raster whose axes may be rotated against the world. Sample (i, j) lies at
-/// the world point (U0 + j) hu u + (V0 + i) hv v, with u = (ux, uy) a unit
-/// vector, v = (-uy, ux), hu = spacing_u_mm (along rows), hv = spacing_mm
-/// (across), and U0, V0 integers (so rasters with the same orientation and
-/// spacing share sample positions).
-struct RasterGrid {
-  double u0 = 0.0;  ///< U0 (integer valued)
-  double v0 = 0.0;  ///< V0 (integer valued)
-  double ux = 1.0;
-  double uy = 0.0;
-  double spacing_mm = 0.05;    ///< hv: between rows
-  double spacing_u_mm = 0.05;  ///< hu: along a row (the motion axis)
-  int rows = 0;
-  int cols = 0;
-
-  /// Raster coordinates (col j, row i) of a world point in mm.
-  void to_raster(double x_mm, double y_mm, double& j, double& i) const {
-    j = (x_mm * ux + y_mm * uy) / spacing_u_mm - u0;
-    i = (-x_mm * uy + y_mm * ux) / spacing_mm - v0;
-  }
-  /// World point (mm) of raster coordinates (j, i).
-  void to_world(double j, double i, double& x_mm, double& y_mm) const {
-    const double a = (u0 + j) * spacing_u_mm;
-    const double b = (v0 + i) * spacing_mm;
-    x_mm = a * ux - b * uy;
-    y_mm = a * uy + b * ux;
-  }
-};
-
 /// The asphalt of one seed: reflectance in [0, 1] at every world point.
-class AsphaltTexture {
+class AsphaltTexture final : public Ground {
  public:
   explicit AsphaltTexture(std::uint64_t seed);
   /// A texture that repeats every `period_mm` along x and y (a multiple of
@@ -48,7 +21,7 @@ class AsphaltTexture {
 
   /// Renders raster rows [row_begin, row_end) into `out` (row-major, grid.cols
   /// floats per row, first row = row_begin). Thread-safe (const).
-  void render_rows(const RasterGrid& grid, int row_begin, int row_end, float* out) const;
+  void render_rows(const RasterGrid& grid, int row_begin, int row_end, float* out) const override;
 
   /// Kinds of stamped features, drawn in this order, each only into pixels
   /// still uncovered; then binder grain and stone speckle (value noise).

@@ -152,7 +152,7 @@ inline float segment_mean(const Lookup& lut, double ja, double ia, double jb, do
 
 }  // namespace
 
-void ExposureRenderer::render(const AsphaltTexture& texture, const Trajectory& trajectory,
+void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory,
                               const dsp::CameraGeometry& camera,
                               const std::vector<LightInterval>& light, cv::Mat& out) {
   if (light.empty()) throw std::invalid_argument("simulator: exposure without light");
@@ -264,7 +264,7 @@ void ExposureRenderer::render(const AsphaltTexture& texture, const Trajectory& t
   auto t_stage = Clock::now();
   // The raster of the previous frame is reused when it is the same raster
   // (standing car): its samples are a function of their world position only.
-  const bool same_raster = texture_id_ == &texture && grid.u0 == last_grid_.u0 &&
+  const bool same_raster = ground_id_ == &ground && grid.u0 == last_grid_.u0 &&
                            grid.v0 == last_grid_.v0 && grid.ux == last_grid_.ux &&
                            grid.uy == last_grid_.uy && grid.spacing_mm == last_grid_.spacing_mm &&
                            grid.spacing_u_mm == last_grid_.spacing_u_mm &&
@@ -276,11 +276,7 @@ void ExposureRenderer::render(const AsphaltTexture& texture, const Trajectory& t
         int r0, r1;
         strip_rows(s, r0, r1);
         float* rows_out = reflectance_.data() + static_cast<std::ptrdiff_t>(r0) * cols;
-        if (tile_ != nullptr) {
-          tile_->render_rows(grid, r0, r1, rows_out);
-        } else {
-          texture.render_rows(grid, r0, r1, rows_out);
-        }
+        ground.render_rows(grid, r0, r1, rows_out);
       }
     });
 
@@ -336,7 +332,7 @@ void ExposureRenderer::render(const AsphaltTexture& texture, const Trajectory& t
       }
     });
   }
-  texture_id_ = &texture;
+  ground_id_ = &ground;
   last_grid_ = grid;
   stats_.psf_ms = ms_since(t_stage);
   t_stage = Clock::now();

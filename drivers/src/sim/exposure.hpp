@@ -7,8 +7,7 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "asphalt.hpp"
-#include "texture_tile.hpp"
+#include "ground.hpp"
 #include "gvs/drivers/sim/render_stats.hpp"
 #include "gvs/drivers/sim/scenario.hpp"
 #include "gvs/dsp/frame.hpp"
@@ -32,9 +31,9 @@ class ExposureRenderer {
   /// Largest allowed deviation of a pixel's path from its straight chord, px.
   static constexpr double kPathTolerancePx = 0.05;
 
-  /// Writes into `out` (CV_32FC1, height x width) the reflectance each pixel
-  /// saw, averaged over the light intervals (time-weighted).
-  void render(const AsphaltTexture& texture, const Trajectory& trajectory,
+  /// Writes into `out` (CV_32FC1, height x width) the reflectance of `ground`
+  /// each pixel saw, averaged over the light intervals (time-weighted).
+  void render(const Ground& ground, const Trajectory& trajectory,
               const dsp::CameraGeometry& camera, const std::vector<LightInterval>& light,
               cv::Mat& out);
 
@@ -43,10 +42,6 @@ class ExposureRenderer {
   /// Blur (px, shortest light interval) from which the raster along the
   /// motion uses the pixel pitch instead of half of it; <= 0: never.
   void set_coarse_min_blur_px(double px) { coarse_min_blur_px_ = px; }
-
-  /// Take the texture from this tile (periodic, resampled) instead of
-  /// rendering it per frame; nullptr: render it (the default).
-  void set_tile(const TextureTile* tile) { tile_ = tile; }
 
   /// Raster coordinates of pixel (r, c) at one instant: j = j00 + r jr + c jc, same for i.
   struct Knot {
@@ -64,8 +59,7 @@ class ExposureRenderer {
   std::vector<std::size_t> interval_begin_;  ///< first knot of each interval (+ end)
   ExposureStats stats_;
   double coarse_min_blur_px_ = 32.0;
-  const TextureTile* tile_ = nullptr;
-  const AsphaltTexture* texture_id_ = nullptr;  ///< texture and grid of cells_
+  const Ground* ground_id_ = nullptr;  ///< ground and grid of cells_
   RasterGrid last_grid_;
 };
 

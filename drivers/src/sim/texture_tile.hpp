@@ -9,7 +9,7 @@
 
 namespace gvs::drivers::sim {
 
-class TextureTile {
+class TextureTile final : public Ground {
  public:
   /// Renders `texture` (which must be periodic) over one period at about
   /// `spacing_mm`: N x N samples, N the power of two nearest to
@@ -19,7 +19,7 @@ class TextureTile {
   /// The same contract as AsphaltTexture::render_rows: raster rows
   /// [row_begin, row_end) of `grid` into `out`, by bilinear interpolation of
   /// the tile, wrapped around its period.
-  void render_rows(const RasterGrid& grid, int row_begin, int row_end, float* out) const;
+  void render_rows(const RasterGrid& grid, int row_begin, int row_end, float* out) const override;
 
   [[nodiscard]] int size() const { return n_; }
   [[nodiscard]] double spacing_mm() const { return spacing_mm_; }

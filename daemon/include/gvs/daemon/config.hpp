@@ -37,6 +37,7 @@ struct DaemonConfig {
   int ring_slots = 4;
   double sim_fps = 60.0;
   std::int64_t sim_seed = 1;
+  std::string sim_ground = "procedural";  ///< or "photo:FILE[:MM_PER_PIXEL]" (drivers::sim::parse_ground)
   double replay_preload_limit_mb = 2048.0;
 
   // [can]

@@ -26,6 +26,9 @@ class DatasetError : public std::runtime_error {
 struct CameraInfo {
   dsp::CameraGeometry geometry;
   std::string description;
+  /// Simulated runs: the ground rendered ("procedural" or
+  /// "photo:FILE:MM_PER_PIXEL", key "ground"); empty: not recorded (camera runs).
+  std::string ground;
 };
 
 /// One row of frames.csv.

@@ -1,5 +1,5 @@
-// The simulated ground camera: procedural asphalt seen by a top-down camera
-// on a car driven by a scenario. It is the ground truth behind every figure
+// The simulated ground camera: procedural asphalt (or a seamless photograph)
+// seen by a top-down camera on a car driven by a scenario. It is the ground truth behind every figure
 // gvs publishes (docs/simulator.md).
 #pragma once
 
@@ -42,7 +42,13 @@ struct SimulatorConfig {
   /// resampled for every frame, instead of rendered per frame: about twice
   /// the frame rate on 2 cores. Same statistics, other stones; datasets
   /// (`gvs sim`) and every accuracy figure use the non-periodic texture.
+  /// Procedural ground only: a photo ground is sampled directly.
   bool periodic_texture = false;
+  /// The ground: "procedural" (the asphalt above) or "photo:FILE[:MM_PER_PIXEL]",
+  /// a seamless square photo at MM_PER_PIXEL (default 0.2) in randomised,
+  /// blended tiles (docs/simulator.md, "Photographed ground"; syntax:
+  /// sim::parse_ground). config() reports the canonical text.
+  std::string ground = "procedural";
 };
 
 /// One rendered frame with its record and truth.
