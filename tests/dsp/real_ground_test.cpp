@@ -1,0 +1,53 @@
+// The "gvs" estimator on photographed asphalt (gvs sim's photo ground over
+// the five photographs in shared/testdata/real-asphalt): at speed with the
+// fixed 3 ms exposure the streaks outgrow the frame, consecutive frames look
+// alike, and nothing but a direction may come out: never a standstill,
+// never a wrong speed.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "gvs_sim_eval.hpp"
+
+namespace gvs::test {
+namespace {
+
+std::string photo_ground(const char* file) {
+  const char* shared = std::getenv("GVS_SHARED_DIR");
+  const std::filesystem::path p =
+      std::filesystem::path(shared != nullptr ? shared : "../shared") / "testdata" / "real-asphalt" / file;
+  EXPECT_TRUE(std::filesystem::exists(p)) << "photo missing: " << p << " (set GVS_SHARED_DIR to the shared/ folder)";
+  return "photo:" + p.string();
+}
+
+class PhotographedGround : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(PhotographedGround, FixedExposureAt60KmhIsNeverAStandstillNorAWrongSpeed) {
+  drivers::SimulatorConfig c;
+  c.scenario = "sine";  // 60 km/h: 500 px streaks with 3 ms
+  c.seconds = 0.75;
+  c.seed = 2;
+  c.ground = photo_ground(GetParam());
+  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
+  print_score(GetParam(), s);
+  const BandScore& b = s.bands[3];  // 60-140 km/h
+  ASSERT_GT(b.frames, 30);
+  EXPECT_EQ(s.methods.count("still"), 0U);
+  EXPECT_LE(b.speed_max, 0.05);  // where a speed is given at all
+  // What the estimator holds on these photographs today (0.11-0.22 deg RMS,
+  // 90-100 % of frames; docs/accuracy.md, "Photographed ground"), short of
+  // the 0.1 deg and 99 % it holds on the procedural asphalt.
+  EXPECT_GE(b.dir_coverage(), 0.85);
+  EXPECT_LE(b.dir_rms(), 0.3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Photos, PhotographedGround,
+                         ::testing::Values("ph_asphalt_04_1024.png", "acg_Asphalt025C_1024.png",
+                                           "torcs_wheel1_asphalt2_1024.png",
+                                           "torcs_etrack2_asphalt_tile_1024.png",
+                                           "torcs_etrack3_asphalt2_1024.png"));
+
+}  // namespace
+}  // namespace gvs::test
