@@ -49,6 +49,8 @@ FineTexture measure_fine_texture(const cv::Mat& gray) {
   out.weakest_grey2 = mean - half_gap;
   out.strongest_grey2 = mean + half_gap;
   out.difference_grey2 = d1_sum / 4.0;
+  const auto [t_min, t_max] = std::minmax_element(t.begin(), t.end());
+  out.step_min_over_max = *t_max > 0.0 ? std::max(*t_min, 0.0) / *t_max : 0.0;
   return out;
 }
 

@@ -254,7 +254,8 @@ bool GvsEstimator::is_still(const cv::Mat& gray, double& ratio) const {
 }
 
 bool GvsEstimator::ground_is_sharp(const FineTexture& t) const {
-  return t.isotropy() >= set_.still_min_isotropy && t.weakest_over_difference() >= set_.still_min_fine_texture;
+  return t.isotropy() >= set_.still_min_isotropy && t.step_min_over_max >= set_.still_min_step_ratio &&
+         t.weakest_over_difference() >= set_.still_min_fine_texture;
 }
 
 GvsEstimator::SignSource GvsEstimator::resolve_sign(Vec2 axis, std::int64_t t_mid_ns,

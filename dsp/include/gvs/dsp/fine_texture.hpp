@@ -25,11 +25,16 @@ namespace gvs::dsp {
 /// along u, so T(u) -> 0 there. T over the four steps (0, 1), (1, 0), (1, 1),
 /// (1, -1) fits the quadratic form [a b; b c] (the structure tensor of the
 /// texture): a = T(0,1), c = T(1,0), b = (T(1,1) - T(1,-1)) / 4, whose
-/// eigenvalues are the weakest and strongest directional powers.
+/// eigenvalues are the weakest and strongest directional powers. The
+/// diagonal steps are sqrt(2) long and, on a grain of about a pixel, reach
+/// past it, so the fit sees less texture across a diagonal streak than
+/// there is; the smallest of the four T over the largest is ~0 for a streak
+/// along any of the four steps, and checks it.
 struct FineTexture {
   double weakest_grey2 = 0.0;     ///< texture power along the direction with the least
   double strongest_grey2 = 0.0;   ///< ... and with the most
   double difference_grey2 = 0.0;  ///< mean lag-1 difference power D_1 (texture and white part)
+  double step_min_over_max = 0.0; ///< smallest of the four T(u) over the largest
 
   /// weakest / strongest: ~1 for sharp isotropic ground, -> 0 when smeared along one direction.
   [[nodiscard]] double isotropy() const {

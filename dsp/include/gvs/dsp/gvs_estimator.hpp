@@ -44,6 +44,11 @@ struct GvsEstimatorSettings {
   /// (sharp ground 0.85-0.99; a streak of 8 px 0.16-0.24, of 30 px or more
   /// below 0.1, on the five photographed grounds)
   double still_min_isotropy = 0.5;
+  /// ... and the smallest of the four directional texture powers at least
+  /// this fraction of the largest (sharp photographed ground 0.50-0.72; a
+  /// diagonal streak of 75-90 px on a fine grain 0.06-0.33, where the
+  /// isotropy above still read 0.47-0.55)
+  double still_min_step_ratio = 0.35;
   /// ... and at least this fraction of the lag-1 difference power (sharp
   /// ground 1.2-2.2 in normal light, 0.24 under-exposed; the sensor's
   /// pattern alone ~0; a streak longer than 30 px below 0.1)
