@@ -36,7 +36,8 @@ std::string fault_names(std::uint16_t faults) {
   std::string out;
   for (std::size_t i = sig_status::kFirstFault; i < sig_status::kFirstFault + sig_status::kFaultCount; ++i) {
     const SignalSpec& sig = kStatusSignals[i];
-    if (((faults >> (sig.start_bit - kFaultFirstBit)) & 1u) == 0) continue;
+    const unsigned bit = static_cast<unsigned>(sig.start_bit - kFaultFirstBit);
+    if (((static_cast<unsigned>(faults) >> bit) & 1u) == 0) continue;
     out += out.empty() ? " (" : ", ";
     out += sig.name.substr(std::string_view("GVS_Fault").size());
   }
