@@ -120,8 +120,7 @@ VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* e, std::int64_t
   VelocityMsg& v = out.velocity;
   // The receiver sees the quality even when it made the values invalid.
   v.quality_pct = std::isfinite(e->quality) ? std::clamp(e->quality, 0.0, 1.0) * 100.0 : 0.0;
-  const bool quality_ok = std::isfinite(e->quality) && e->quality >= rule.min_quality;
-  if (!out.fresh || !quality_ok || !plausible) return out;
+  if (!out.fresh || !quality_passes(e->quality, rule.min_quality) || !plausible) return out;
 
   using namespace sig_velocity;
   const auto& s = kVelocitySignals;

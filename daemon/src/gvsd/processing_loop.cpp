@@ -1,7 +1,6 @@
 // The processing thread: newest frame -> estimator -> plausibility gate ->
 // latest estimate (seqlock) -> exposure controller -> next exposure plan (seqlock).
 #include <algorithm>
-#include <cmath>
 
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
@@ -54,7 +53,7 @@ void Pipeline::processing_loop() noexcept {
     p.exposure_us = slot->view.exposure.exposure_us;
     // The gate judges only estimates that could go out valid: one below
     // min_quality is flagged by the sender anyway and must not move the track.
-    if (std::isfinite(e.quality) && e.quality >= min_quality_.load(std::memory_order_relaxed)) {
+    if (can::quality_passes(e.quality, min_quality_.load(std::memory_order_relaxed))) {
       gate_.set_limits(plausibility_limits_.read());
       if (!publishable(gate_.check(e))) {
         p.plausible = false;

@@ -2,6 +2,7 @@
 // with E2E protection. No allocation, no exceptions after construction.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -88,6 +89,11 @@ struct ValidityRule {
   std::int64_t stale_after_ms = 50;  ///< older (or from the future by more) -> every Valid bit 0
   double min_quality = 0.3;          ///< lower quality (or NaN) -> every Valid bit 0
 };
+
+/// The rule's quality condition: a finite quality of at least `min_quality`.
+[[nodiscard]] inline bool quality_passes(double quality, double min_quality) noexcept {
+  return std::isfinite(quality) && quality >= min_quality;
+}
 
 /// The two velocity messages for the newest estimate (or none), `now_ns` on
 /// the estimate's clock. A quantity's Valid bit is 1 only when the estimate
