@@ -85,11 +85,11 @@ struct Sensor {
   double falloff = 0.0;  ///< the ring light's brightness loss at the frame's corners (0.3 = 30 %)
 };
 
+inline cv::Mat sensor_frame(const cv::Mat& texture, const Sensor& sensor, std::uint64_t noise_seed);
+
 /// Renders one 8-bit frame: the ground at p0 (px) at the frame start moving
 /// with image velocity (v_row, v_col) px per time unit, rotating by
 /// omega rad per time unit; pulses say when light reaches the sensor.
-inline cv::Mat sensor_frame(const cv::Mat& texture, const Sensor& sensor, std::uint64_t noise_seed);
-
 inline cv::Mat render_frame(const cv::Mat& tex, cv::Size frame, double p0_row, double p0_col,
                             double phi0, double v_row, double v_col, double omega,
                             const std::vector<Pulse>& pulses, const Sensor& sensor,

@@ -4,6 +4,7 @@
 // real asphalt in shared/testdata/real-asphalt either.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -94,9 +95,18 @@ test::Sensor camera_sensor() {
   return s;
 }
 
+/// The measure as docs/estimator.md quotes it ("Standstill needs sharp ground").
+void print_texture(const std::string& what, const cv::Mat& gray) {
+  const FineTexture t = measure_fine_texture(gray);
+  std::printf("[ texture  ] %-44s isotropy %.3f  step min/max %.3f  weakest/D1 %.3f\n", what.c_str(), t.isotropy(),
+              t.step_min_over_max, t.weakest_over_difference());
+}
+
 TEST(FineTexture, SharpGroundHasItInEveryDirection) {
   const cv::Mat tex = test::make_texture(1024, 11);
-  const FineTexture t = measure_fine_texture(test::sensor_frame(tex(cv::Rect({0, 0}, kFrame)), camera_sensor(), 1));
+  const cv::Mat gray = test::sensor_frame(tex(cv::Rect({0, 0}, kFrame)), camera_sensor(), 1);
+  print_texture("sharp, synthetic", gray);
+  const FineTexture t = measure_fine_texture(gray);
   EXPECT_GT(t.isotropy(), 0.8);
   EXPECT_GT(t.weakest_over_difference(), 0.5);
 }
@@ -113,7 +123,9 @@ TEST(FineTexture, AStreakTakesItAwayAlongTheMotionWhateverItsDirection) {
     cv::Scalar mean;
     cv::Scalar stddev;
     cv::meanStdDev(acc, mean, stddev);
-    const FineTexture t = measure_fine_texture(test::sensor_frame(acc / stddev[0], camera_sensor(), 2));
+    const cv::Mat gray = test::sensor_frame(acc / stddev[0], camera_sensor(), 2);
+    print_texture("streak 40 px at " + std::to_string(static_cast<int>(angle_deg)) + " deg, synthetic", gray);
+    const FineTexture t = measure_fine_texture(gray);
     // Along a diagonal the steps are sqrt(2) long and reach past the grain,
     // so less of the texture across the streak is seen: 0.3 there, 0.1 along
     // the rows or columns; both below what standstill needs.
@@ -142,6 +154,7 @@ TEST(Standstill, FramesSmearedAlikeOnPhotographedAsphaltAreNoStandstill) {
     auto est = make_gvs();
     for (int i = 0; i < 4; ++i) {
       const cv::Mat gray = test::sensor_frame(view, camera_sensor(), 10 + static_cast<std::uint64_t>(i));
+      if (i == 0) print_texture("streak 369 px, " + name, gray);
       const VelocityEstimate e = est->estimate(frame_of(gray, i));
       EXPECT_STRNE(e.method, "still") << name << " frame " << i;
       EXPECT_FALSE(e.has_speed && e.speed_mps < 1.0) << name << " frame " << i << " " << e.method;
@@ -159,6 +172,7 @@ TEST(Standstill, ADiagonalStreakOnAFineGrainIsNoStandstill) {
   auto est = make_gvs();
   for (int i = 0; i < 4; ++i) {
     const cv::Mat gray = test::sensor_frame(view, camera_sensor(), 30 + static_cast<std::uint64_t>(i));
+    if (i == 0) print_texture("diagonal streak 80 px, torcs_etrack2", gray);
     const VelocityEstimate e = est->estimate(frame_of(gray, i));
     EXPECT_STRNE(e.method, "still") << "frame " << i;
   }
@@ -172,6 +186,7 @@ TEST(Standstill, SharpPhotographedAsphaltThatDoesNotMoveIsAStandstill) {
     auto est = make_gvs();
     for (int i = 0; i < 4; ++i) {
       const cv::Mat gray = test::sensor_frame(view, camera_sensor(), 20 + static_cast<std::uint64_t>(i));
+      if (i == 0) print_texture("sharp, " + name, gray);
       const VelocityEstimate e = est->estimate(frame_of(gray, i));
       if (i == 0) continue;
       EXPECT_STREQ(e.method, "still") << name << " frame " << i;

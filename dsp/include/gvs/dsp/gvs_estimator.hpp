@@ -41,8 +41,8 @@ struct GvsEstimatorSettings {
   double still_min_neighbour_corr = 0.3;
   /// ... and both frames must be sharp (measure_fine_texture): fine texture
   /// along the weakest direction at least this fraction of the strongest
-  /// (sharp ground 0.85-0.99; a streak of 8 px 0.16-0.24, of 30 px or more
-  /// below 0.1, on the five photographed grounds)
+  /// (sharp photographed ground 0.71-0.87; a 40 px streak along a row 0.05,
+  /// along a diagonal 0.3; docs/estimator.md, "Standstill needs sharp ground")
   double still_min_isotropy = 0.5;
   /// ... and the smallest of the four directional texture powers at least
   /// this fraction of the largest (sharp photographed ground 0.50-0.72; a
@@ -50,8 +50,9 @@ struct GvsEstimatorSettings {
   /// isotropy above still read 0.47-0.55)
   double still_min_step_ratio = 0.35;
   /// ... and at least this fraction of the lag-1 difference power (sharp
-  /// ground 1.2-2.2 in normal light, 0.24 under-exposed; the sensor's
-  /// pattern alone ~0; a streak longer than 30 px below 0.1)
+  /// photographed ground 2.0-2.4; under-exposed procedural ground stays
+  /// above it, its `stop` runs read `still` on every standing frame; the
+  /// sensor's pattern alone ~0)
   double still_min_fine_texture = 0.1;
   // Pair <-> single-frame switching on the expected shift between frames (px),
   // with hysteresis: leave pair mode above the first, come back below the second.
