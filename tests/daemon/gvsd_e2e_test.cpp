@@ -94,8 +94,16 @@ fs::path write_config(const std::string& name, const std::string& text) {
 
 constexpr double kSineSpeedMps = 60.0 / 3.6;
 
+/// How the source paces its frames, which decides what the valid fraction says.
+enum class Pace {
+  Camera,     ///< frames at their own 60 fps (replay): >= 95 % of periods valid
+  CpuBound,   ///< the live simulator renders as fast as spare CPU allows: the
+              ///< valid fraction follows from that and is not asserted; the
+              ///< validity rule and the valid values are
+};
+
 /// The issue's acceptance run: 10 s of `source` (sim:sine) to a candump file.
-void must_show_run(const std::string& method, const std::string& source = "sim:sine") {
+void must_show_run(const std::string& method, const std::string& source, Pace pace) {
   const fs::path log = temp_dir() / ("must_show_" + method + ".log");
   std::vector<std::string> args{"--source", source, "--can", "candump:" + log.string(), "--run-for", "10"};
   if (method != "gvs") {
@@ -127,14 +135,30 @@ void must_show_run(const std::string& method, const std::string& source = "sim:s
   const std::vector<double> status_periods = testing::periods_ms(msgs.status);
   EXPECT_NEAR(quantile(status_periods, 0.5), 100.0, 0.5);
 
-  // Values after the first 0.5 s.
+  // Values after the first 0.5 s. GVS_Velocity and GVS_VelocityXY of one
+  // period are sent together: the i-th of each belong to the same estimate.
+  ASSERT_EQ(msgs.velocity.size(), msgs.velocity_xy.size());
   const std::int64_t t0 = msgs.velocity.front().t_ns;
-  std::size_t counted = 0, valid = 0;
+  std::size_t counted = 0, valid = 0, fresh_and_good = 0, fresh_and_good_valid = 0, rule_broken = 0;
   double speed_sum = 0.0, dir_min = 1e9, dir_max = -1e9;
-  for (const auto& m : msgs.velocity) {
+  for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
+    const testing::LoggedMessage& m = msgs.velocity[i];
     if (m.t_ns - t0 < 500 * kNsPerMs) continue;
     ++counted;
     const auto& v = m.decoded.velocity;
+    const auto& xy = msgs.velocity_xy[i].decoded.xy;
+    // gvsd's defaults: stale after 50 ms, min quality 0.3. GVS_Quality is
+    // sent in whole percent, so 29-31 % may be either side of the limit.
+    const bool any_valid = v.valid || v.speed_valid || v.direction_valid || v.yaw_rate_valid || xy.valid;
+    if (any_valid && !(xy.age_ms <= 50 && v.quality_pct >= 29.0)) {
+      ++rule_broken;
+      ADD_FAILURE() << "period " << i << ": a Valid bit set with age " << xy.age_ms << " ms, quality "
+                    << v.quality_pct << " %";
+    }
+    if (xy.age_ms <= 50 && v.quality_pct >= 31.0) {
+      ++fresh_and_good;
+      fresh_and_good_valid += v.valid ? 1 : 0;
+    }
     if (!v.valid) continue;
     ++valid;
     speed_sum += v.speed_mps;
@@ -150,7 +174,17 @@ void must_show_run(const std::string& method, const std::string& source = "sim:s
   std::printf("[ figures  ] %s: median period %.4f ms, p99 |deviation| %.3f ms, valid %.1f %%, mean speed %.3f m/s, "
               "direction %.2f .. %.2f deg\n",
               method.c_str(), median, p99, 100.0 * valid_fraction, mean_speed, dir_min, dir_max);
-  EXPECT_GE(valid_fraction, 0.95) << "health: " << slurp(c.err);
+  // Never valid when stale or doubtful; and a fresh, good estimate is not
+  // held back (the plausibility gate has nothing to reject on sim:sine).
+  EXPECT_EQ(rule_broken, 0u);
+  EXPECT_GE(static_cast<double>(fresh_and_good_valid), 0.95 * static_cast<double>(fresh_and_good));
+  if (pace == Pace::Camera) {
+    EXPECT_GE(valid_fraction, 0.95) << "health: " << slurp(c.err);
+  } else {
+    // Even a 5 fps render leaves a fresh estimate in some periods; the
+    // values below need a few dozen.
+    EXPECT_GE(valid, 50u) << "health: " << slurp(c.err);
+  }
   EXPECT_NEAR(mean_speed, kSineSpeedMps, 0.02 * kSineSpeedMps);
   EXPECT_NEAR(dir_max, 8.0, 1.0);
   EXPECT_NEAR(dir_min, -8.0, 1.0);
@@ -158,11 +192,11 @@ void must_show_run(const std::string& method, const std::string& source = "sim:s
 }
 
 // With the real estimator on sim:sine, gvsd's built-in defaults (double-pulse
-// strobe, closed loop): the issue's figures. The live simulator renders its
-// periodic texture tile (SimulatorConfig::periodic_texture), which keeps
-// 25-30 fps beside gvsd on 2 cores: frames are fresh enough for the 50 ms
-// limit. Measured 99.2-99.4 % valid.
-TEST(GvsdMustShow, SimSine10sWithGvsEstimator) { must_show_run("gvs"); }
+// strobe, closed loop). The live simulator renders as fast as spare CPU
+// allows (25-30 fps on an idle 2-core machine, 12-18 fps beside the rest of
+// the suite): what is checked is that each period is valid exactly when its
+// estimate is fresh and good, and the values of the valid ones.
+TEST(GvsdMustShow, SimSine10sWithGvsEstimator) { must_show_run("gvs", "sim:sine", Pace::CpuBound); }
 
 // The issue's figures with the gvs estimator on a camera that keeps its
 // 60 fps: sim:sine rendered beforehand by `gvs sim` (512x384 px, double-pulse
@@ -173,13 +207,13 @@ TEST(GvsdMustShow, ReplayedSineWithGvsEstimatorAt60Fps) {
   const std::string cmd = std::string(GVS_BINARY) + " sim --scenario sine --exposure double-pulse --seconds 10.6 --out " +
                           dir.string() + " > " + (temp_dir() / "gvs_sim.out").string() + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  must_show_run("gvs", "replay:" + dir.string());
+  must_show_run("gvs", "replay:" + dir.string(), Pace::Camera);
   fs::remove_all(dir);
 }
 
 // With the source's truth in place of the estimator: the daemon's own part
 // (timing, packing, staleness) of the same figures.
-TEST(GvsdMustShow, SimSine10sWithTruth) { must_show_run("truth"); }
+TEST(GvsdMustShow, SimSine10sWithTruth) { must_show_run("truth", "sim:sine", Pace::CpuBound); }
 
 /// A 10 s replay dataset (small frames), so stopping is not held up by the
 /// simulator's render of a frame, which cannot be interrupted (50-90 ms on
