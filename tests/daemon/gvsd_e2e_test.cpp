@@ -392,6 +392,43 @@ TEST(Gvsd, BadConfigurationStopsStartUpNamingKeyAndRange) {
   EXPECT_TRUE(slurp(c.out).empty());
 }
 
+// --check-config runs start-up's checks: what it accepts, start-up does not
+// refuse for a reason the file shows; devices are not opened.
+TEST(Gvsd, CheckConfigRefusesWhatStartUpRefuses) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"[estimator]\nmethod = \"foo\"\n", "[estimator] method = \"foo\" is not allowed"},
+      {"[source]\nuri = \"sim:nonexistent\"\n", "unknown scenario 'nonexistent'"},
+  };
+  for (const auto& [toml, want] : cases) {
+    const fs::path cfg = write_config("refused.toml", toml);
+    const Child check = spawn({"--check-config", "--config", cfg.string()}, "check_refused");
+    EXPECT_EQ(wait_exit(check), 1) << toml;
+    EXPECT_NE(slurp(check.err).find(want), std::string::npos) << slurp(check.err);
+    EXPECT_EQ(slurp(check.out).find("configuration OK"), std::string::npos) << slurp(check.out);
+    const Child start = spawn({"--config", cfg.string(), "--can", "candump:/dev/null"}, "start_refused");
+    EXPECT_EQ(wait_exit(start), 1) << toml;
+    EXPECT_NE(slurp(start.err).find(want), std::string::npos) << slurp(start.err);
+  }
+  // No camera and no such CAN interface here: start-up would fail opening
+  // them, the check does not open them.
+  const Child ok = spawn({"--check-config", "--source", "libcamera:0", "--can", "socketcan:gvsnone0"}, "check_ok");
+  EXPECT_EQ(wait_exit(ok), 0) << slurp(ok.err);
+  EXPECT_NE(slurp(ok.out).find("configuration OK (source libcamera:0, CAN socketcan:gvsnone0"), std::string::npos)
+      << slurp(ok.out);
+}
+
+TEST(Gvsd, PrintsTheExampleFileAndTheReference) {
+  const Child example = spawn({"--print-example-config"}, "print_example");
+  EXPECT_EQ(wait_exit(example), 0);
+  EXPECT_EQ(slurp(example.out), slurp(fs::path(GVSD_SOURCE_DIR) / "systemd" / "gvsd.toml"));
+  const Child reference = spawn({"--print-config-reference"}, "print_reference");
+  EXPECT_EQ(wait_exit(reference), 0);
+  const std::string md = slurp(reference.out);
+  EXPECT_NE(md.find("| `staleness_limit_ms` | number | `50.0` | 1 .. 1000 ms | reload |"), std::string::npos) << md;
+  EXPECT_NE(slurp(fs::path(GVSD_SOURCE_DIR) / "docs" / "daemon.md").find(md), std::string::npos)
+      << "docs/daemon.md holds the reference as printed";
+}
+
 TEST(Gvsd, RefusesLibcameraAndUnknownSourcesClearly) {
   // This machine has no camera: the libcamera source stops start-up saying what to check.
   const Child a = spawn({"--source", "libcamera:0"}, "libcamera");
