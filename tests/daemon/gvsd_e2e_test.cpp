@@ -377,6 +377,9 @@ TEST(Gvsd, SighupReloadsWhatCanBeReloaded) {
   const std::string err = slurp(c.err);
   EXPECT_NE(err.find("SIGHUP: reloaded"), std::string::npos) << err;
   EXPECT_NE(err.find("staleness limit 20 ms"), std::string::npos) << err;
+  // Each key the table marks reloadable is logged as it is applied.
+  EXPECT_NE(err.find("SIGHUP: applying can.staleness_limit_ms = 20.0 (was 50.0)"), std::string::npos) << err;
+  EXPECT_NE(err.find("SIGHUP: applying log.level = \"debug\" (was \"info\")"), std::string::npos) << err;
   EXPECT_NE(err.find("source.uri changed"), std::string::npos) << err;
   EXPECT_NE(err.find("SIGHUP: keeping the running configuration"), std::string::npos) << err;
   EXPECT_NE(err.find("staleness_limit_ms must be a number"), std::string::npos) << err;
