@@ -4,6 +4,7 @@
 // the table marks, and --check-config's start-up checks refuse what start-up
 // refuses without opening a device.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,7 +15,10 @@
 
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/config_keys.hpp"
+#include "gvs/daemon/frame_source.hpp"
 #include "gvs/daemon/startup_check.hpp"
+#include "gvs/drivers/dataset.hpp"
+#include "gvs/drivers/simulator.hpp"
 
 namespace gvs::daemon {
 namespace {
@@ -209,6 +213,40 @@ TEST(StartupCheck, RefusesWhatStartUpRefuses) {
   // The estimator's name is refused by the parser already, naming the key.
   EXPECT_NE(refusal("[estimator]\nmethod = \"foo\"\n").find("[estimator] method = \"foo\" is not allowed"),
             std::string::npos);
+}
+
+TEST(StartupCheck, ReplayChecksTheDatasetsIndexAndMemoryLimit) {
+  // Four 640x480 frames need 1.17 MiB once decoded.
+  const auto dir = std::filesystem::temp_directory_path() / ("gvsd_config_ds_" + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  drivers::SimulatorConfig sc;
+  sc.scenario = "const";
+  sc.camera.width_px = 640;
+  sc.camera.height_px = 480;
+  drivers::Simulator sim(sc);
+  drivers::CameraInfo cam;
+  cam.geometry = sc.camera;
+  {
+    drivers::DatasetWriter writer(dir, cam, true);
+    drivers::SimFrame f;
+    for (int i = 0; i < 4 && sim.next(f); ++i) {
+      writer.write_frame(f.gray, f.record);
+      writer.write_truth(f.truth);
+    }
+  }
+  DaemonConfig c;
+  c.source_uri = "replay:" + dir.string();
+  const dsp::CameraGeometry g = check_frame_source(c);
+  EXPECT_EQ(g.width_px, 640) << "the dataset's camera.json, not [camera]";
+  EXPECT_EQ(g.height_px, 480);
+  c.replay_preload_limit_mb = 1.0;
+  try {
+    (void)check_startup(c);
+    ADD_FAILURE() << "4 frames of 640x480 px accepted under a 1 MiB limit";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("replay_preload_limit_mb = 1"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(StartupCheck, OpensNoDevice) {
