@@ -377,6 +377,9 @@ TEST(Gvsd, SighupReloadsWhatCanBeReloaded) {
   const std::string err = slurp(c.err);
   EXPECT_NE(err.find("SIGHUP: reloaded"), std::string::npos) << err;
   EXPECT_NE(err.find("staleness limit 20 ms"), std::string::npos) << err;
+  // Each key the table marks reloadable is logged as it is applied.
+  EXPECT_NE(err.find("SIGHUP: applying can.staleness_limit_ms = 20.0 (was 50.0)"), std::string::npos) << err;
+  EXPECT_NE(err.find("SIGHUP: applying log.level = \"debug\" (was \"info\")"), std::string::npos) << err;
   EXPECT_NE(err.find("source.uri changed"), std::string::npos) << err;
   EXPECT_NE(err.find("SIGHUP: keeping the running configuration"), std::string::npos) << err;
   EXPECT_NE(err.find("staleness_limit_ms must be a number"), std::string::npos) << err;
@@ -390,6 +393,43 @@ TEST(Gvsd, BadConfigurationStopsStartUpNamingKeyAndRange) {
   EXPECT_NE(err.find("[threads.capture] priority = 200 is out of range"), std::string::npos) << err;
   EXPECT_NE(err.find("0 .. 99"), std::string::npos) << err;
   EXPECT_TRUE(slurp(c.out).empty());
+}
+
+// --check-config runs start-up's checks: what it accepts, start-up does not
+// refuse for a reason the file shows; devices are not opened.
+TEST(Gvsd, CheckConfigRefusesWhatStartUpRefuses) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"[estimator]\nmethod = \"foo\"\n", "[estimator] method = \"foo\" is not allowed"},
+      {"[source]\nuri = \"sim:nonexistent\"\n", "unknown scenario 'nonexistent'"},
+  };
+  for (const auto& [toml, want] : cases) {
+    const fs::path cfg = write_config("refused.toml", toml);
+    const Child check = spawn({"--check-config", "--config", cfg.string()}, "check_refused");
+    EXPECT_EQ(wait_exit(check), 1) << toml;
+    EXPECT_NE(slurp(check.err).find(want), std::string::npos) << slurp(check.err);
+    EXPECT_EQ(slurp(check.out).find("configuration OK"), std::string::npos) << slurp(check.out);
+    const Child start = spawn({"--config", cfg.string(), "--can", "candump:/dev/null"}, "start_refused");
+    EXPECT_EQ(wait_exit(start), 1) << toml;
+    EXPECT_NE(slurp(start.err).find(want), std::string::npos) << slurp(start.err);
+  }
+  // No camera and no such CAN interface here: start-up would fail opening
+  // them, the check does not open them.
+  const Child ok = spawn({"--check-config", "--source", "libcamera:0", "--can", "socketcan:gvsnone0"}, "check_ok");
+  EXPECT_EQ(wait_exit(ok), 0) << slurp(ok.err);
+  EXPECT_NE(slurp(ok.out).find("configuration OK (source libcamera:0, CAN socketcan:gvsnone0"), std::string::npos)
+      << slurp(ok.out);
+}
+
+TEST(Gvsd, PrintsTheExampleFileAndTheReference) {
+  const Child example = spawn({"--print-example-config"}, "print_example");
+  EXPECT_EQ(wait_exit(example), 0);
+  EXPECT_EQ(slurp(example.out), slurp(fs::path(GVSD_SOURCE_DIR) / "systemd" / "gvsd.toml"));
+  const Child reference = spawn({"--print-config-reference"}, "print_reference");
+  EXPECT_EQ(wait_exit(reference), 0);
+  const std::string md = slurp(reference.out);
+  EXPECT_NE(md.find("| `staleness_limit_ms` | number | `50.0` | 1 .. 1000 ms | reload |"), std::string::npos) << md;
+  EXPECT_NE(slurp(fs::path(GVSD_SOURCE_DIR) / "docs" / "daemon.md").find(md), std::string::npos)
+      << "docs/daemon.md holds the reference as printed";
 }
 
 TEST(Gvsd, RefusesLibcameraAndUnknownSourcesClearly) {

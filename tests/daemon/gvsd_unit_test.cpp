@@ -351,7 +351,7 @@ TEST(Config, RestartOnlyChangesAreListedByKey) {
   const auto changed = restart_only_changes(a, b);
   ASSERT_EQ(changed.size(), 2u);
   EXPECT_EQ(changed[0], "source.uri");
-  EXPECT_EQ(changed[1], "threads.sender");
+  EXPECT_EQ(changed[1], "threads.sender.priority");
 }
 
 // ---- lever arm ----

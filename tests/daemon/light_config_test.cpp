@@ -86,6 +86,7 @@ TEST(LightConfig, ChangingTheLightNeedsARestart) {
   const auto a = parse_config("", "a.toml");
   const auto b = parse_config("[light]\ndriver = \"gpio\"\nled_line = 1\n", "b.toml");
   const auto changed = gvs::daemon::restart_only_changes(a, b);
-  ASSERT_EQ(changed.size(), 1u);
-  EXPECT_EQ(changed[0], "light");
+  ASSERT_EQ(changed.size(), 2u);
+  EXPECT_EQ(changed[0], "light.driver");
+  EXPECT_EQ(changed[1], "light.led_line");
 }

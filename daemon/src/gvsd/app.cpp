@@ -16,12 +16,14 @@
 #include "gvs/can/sink.hpp"
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/config.hpp"
+#include "gvs/daemon/config_keys.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
 #include "gvs/daemon/frame_source.hpp"
 #include "gvs/daemon/health.hpp"
 #include "gvs/daemon/logging.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/daemon/rt.hpp"
+#include "gvs/daemon/startup_check.hpp"
 
 namespace gvs::daemon {
 
@@ -33,6 +35,8 @@ struct CommandLine {
   std::string can_uri;
   std::optional<double> run_for_s;
   bool check_only = false;
+  bool print_example = false;
+  bool print_reference = false;
 };
 
 DaemonConfig load(const CommandLine& cli) {
@@ -90,16 +94,9 @@ void reload(const CommandLine& cli, DaemonConfig& running, Pipeline& pipeline) {
       for (const std::string& key : restart_only_changes(running, fresh)) {
         spdlog::warn("SIGHUP: {} changed in {}; it takes effect at the next restart", key, cli.config_file);
       }
-      running.staleness_limit_ms = fresh.staleness_limit_ms;
-      running.late_wakeup_limit_ms = fresh.late_wakeup_limit_ms;
-      running.min_quality = fresh.min_quality;
-      running.plausibility = fresh.plausibility;
-      running.exposure_mode = fresh.exposure_mode;
-      running.exposure_initial_us = fresh.exposure_initial_us;
-      running.exposure_max_us = fresh.exposure_max_us;
-      running.exposure_min_pulse_us = fresh.exposure_min_pulse_us;
-      running.log_level = fresh.log_level;
-      running.health_interval_s = fresh.health_interval_s;
+      for (const std::string& change : apply_reloadable_keys(running, fresh)) {
+        spdlog::info("SIGHUP: applying {}", change);
+      }
       pipeline.apply_reloadable(running);
       spdlog::set_level(spdlog::level::from_str(running.log_level));
       spdlog::info("SIGHUP: reloaded {} (staleness limit {} ms, min quality {}, max acceleration {} m/s^2, "
@@ -125,6 +122,12 @@ int run(const CommandLine& cli) {
     return 1;
   }
   if (cli.check_only) {
+    try {
+      (void)check_startup(config);
+    } catch (const std::exception& e) {
+      spdlog::critical("start-up: {}", e.what());
+      return 1;
+    }
     // stdout, not the log: `gvsd --check-config` is run by hand or by a
     // package script before a reload or restart.
     fmt::print("{}: configuration OK (source {}, CAN {}, estimator {}, exposure {})\n", config.origin,
@@ -244,12 +247,24 @@ int gvsd_main(int argc, char** argv) {
   app.add_option("--run-for", cli.run_for_s, "stop after this many seconds (exactly that many CAN periods)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--check-config", cli.check_only,
-               "read and check the configuration (every key, type and range), print it and exit: 0 = OK, "
-               "1 = refused with the key named");
+               "check the configuration as start-up does (every key, type and range; source, estimator, CAN "
+               "URI) without opening a device, print a summary and exit: 0 = OK, 1 = refused, saying why");
+  app.add_flag("--print-example-config", cli.print_example,
+               "print the example configuration (systemd/gvsd.toml: every key at its default) and exit");
+  app.add_flag("--print-config-reference", cli.print_reference,
+               "print the configuration reference in Markdown (docs/daemon.md) and exit");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  }
+  if (cli.print_example) {
+    fmt::print("{}", example_config_text());
+    return 0;
+  }
+  if (cli.print_reference) {
+    fmt::print("{}", config_reference_markdown());
+    return 0;
   }
   return run(cli);
 }

@@ -17,37 +17,51 @@ std::string estimate_text(const PublishedEstimate& latest, std::int64_t now_ns) 
                      e.method, latest.plausible ? "" : ", implausible (held back)", age_ms);
 }
 
-/// The [light] part; empty when no light driver ran.
-std::string light_text(const HealthSnapshot& n, const HealthSnapshot& p) {
-  if (n.light_plans == 0 && n.light_errors == 0) return {};
-  return fmt::format(" | light {} plans, {} edges, late edges {} (+{}), errors {} (+{}), max lateness {:.3f} ms",
-                     n.light_plans, n.light_edges, n.light_late_edges, n.light_late_edges - p.light_late_edges,
-                     n.light_errors, n.light_errors - p.light_errors,
-                     static_cast<double>(n.light_late_max_ns) / 1e6);
+struct GroupInfo {
+  HealthGroup group;
+  const char* prefix;
+  bool only_when_nonzero;  ///< the light part appears only when a [light] driver ran
+};
+
+constexpr GroupInfo kGroups[] = {
+    {HealthGroup::capture, "capture ", false},  {HealthGroup::processing, "processing ", false},
+    {HealthGroup::can, "CAN ", false},          {HealthGroup::exposure, "", false},
+    {HealthGroup::light, "light ", true},
+};
+
+/// One group of the line from the declared counters ("" when it is not shown).
+std::string group_text(const GroupInfo& g, const HealthSnapshot& n, const HealthSnapshot& p, double interval_s) {
+  std::string items;
+  bool any_nonzero = false;
+  for (const HealthField& f : kHealthFields) {
+    if (f.group != g.group || f.show == HealthShow::hidden) continue;
+    const std::int64_t v = f.value(n);
+    const std::int64_t d = v - f.value(p);
+    any_nonzero = any_nonzero || v != 0;
+    if (f.show == HealthShow::nonzero && v == 0) continue;
+    const double rate = interval_s > 0.0 ? static_cast<double>(d) / interval_s : 0.0;
+    std::string item = fmt::format(fmt::runtime(f.text), fmt::arg("v", v), fmt::arg("rate", rate),
+                                   fmt::arg("ms", static_cast<double>(v) / 1e6));
+    if (f.show == HealthShow::delta) item += fmt::format(" (+{})", d);
+    items += (items.empty() ? "" : ", ") + item;
+  }
+  if (g.only_when_nonzero && !any_nonzero) return {};
+  return g.prefix + items;
 }
 
 }  // namespace
 
 std::string format_health_line(const HealthSnapshot& n, const HealthSnapshot& p, const PublishedEstimate& latest,
                                std::int64_t now_ns, double interval_s) {
-  const double fps = interval_s > 0.0 ? static_cast<double>(n.frames_captured - p.frames_captured) / interval_s : 0.0;
-  return fmt::format(
-      "health: capture {} frames ({:.1f} fps), ring overruns {} (+{}), dropped {} (+{}), source errors {} (+{}), "
-      "late {} | processing {} frames, skipped {} (+{}), rejected {} (+{}), estimator failures {} (+{}), "
-      "implausible {} (+{}), max {:.2f} ms | "
-      "CAN {} frames sent, {} flagged invalid (+{}), send errors {} (+{}{}), late wake-ups {} (+{}), "
-      "missed periods {}, max lateness {:.3f} ms | exposure updates {}{} | latest: {}",
-      n.frames_captured, fps, n.ring_overruns, n.ring_overruns - p.ring_overruns, n.frames_dropped,
-      n.frames_dropped - p.frames_dropped, n.source_errors, n.source_errors - p.source_errors, n.capture_late,
-      n.frames_processed, n.frames_skipped, n.frames_skipped - p.frames_skipped, n.frames_rejected,
-      n.frames_rejected - p.frames_rejected, n.estimator_failures,
-      n.estimator_failures - p.estimator_failures, n.implausible_estimates,
-      n.implausible_estimates - p.implausible_estimates, static_cast<double>(n.processing_max_ns) / 1e6, n.frames_sent,
-      n.invalid_sent, n.invalid_sent - p.invalid_sent, n.send_errors, n.send_errors - p.send_errors,
-      n.last_send_errno != 0 ? fmt::format(", last errno {}", n.last_send_errno) : std::string(),
-      n.late_wakeups, n.late_wakeups - p.late_wakeups, n.missed_ticks,
-      static_cast<double>(n.wakeup_late_max_ns) / 1e6, n.exposure_updates, light_text(n, p),
-      estimate_text(latest, now_ns));
+  std::string line = "health: ";
+  bool first = true;
+  for (const GroupInfo& g : kGroups) {
+    const std::string part = group_text(g, n, p, interval_s);
+    if (part.empty()) continue;
+    line += (first ? "" : " | ") + part;
+    first = false;
+  }
+  return line + " | latest: " + estimate_text(latest, now_ns);
 }
 
 std::string format_status_text(const HealthSnapshot& n, const PublishedEstimate& latest, std::int64_t now_ns) {

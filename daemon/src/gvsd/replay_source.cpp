@@ -11,20 +11,40 @@
 
 namespace gvs::daemon {
 
+namespace {
+
+/// What start-up checks of a dataset's index before it decodes a frame.
+void check_index(const std::filesystem::path& folder, const std::vector<drivers::FrameRecord>& records,
+                 const dsp::CameraGeometry& geometry, double preload_limit_mb) {
+  if (records.empty()) throw std::runtime_error(folder.string() + ": the dataset has no frames");
+  const double mb = static_cast<double>(records.size()) * geometry.width_px * geometry.height_px / 1048576.0;
+  if (mb > preload_limit_mb) {
+    std::ostringstream msg;
+    msg << folder.string() << ": " << records.size() << " frames need " << mb
+        << " MiB in memory, more than [source] replay_preload_limit_mb = " << preload_limit_mb
+        << "; raise the limit or replay a shorter dataset";
+    throw std::runtime_error(msg.str());
+  }
+}
+
+}  // namespace
+
+dsp::CameraGeometry ReplaySource::check(const std::filesystem::path& folder, double preload_limit_mb) {
+  try {
+    const drivers::DatasetReader reader(folder);
+    check_index(folder, reader.frames(), reader.camera().geometry, preload_limit_mb);
+    return reader.camera().geometry;
+  } catch (const drivers::DatasetError& e) {
+    throw std::runtime_error(std::string("replay: ") + e.what());
+  }
+}
+
 ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_limit_mb) : folder_(folder) {
   try {
     const drivers::DatasetReader reader(folder);
     geometry_ = reader.camera().geometry;
     records_ = reader.frames();
-    if (records_.empty()) throw std::runtime_error(folder.string() + ": the dataset has no frames");
-    const double mb = static_cast<double>(records_.size()) * geometry_.width_px * geometry_.height_px / 1048576.0;
-    if (mb > preload_limit_mb) {
-      std::ostringstream msg;
-      msg << folder.string() << ": " << records_.size() << " frames need " << mb
-          << " MiB in memory, more than [source] replay_preload_limit_mb = " << preload_limit_mb
-          << "; raise the limit or replay a shorter dataset";
-      throw std::runtime_error(msg.str());
-    }
+    check_index(folder, records_, geometry_, preload_limit_mb);
     // A frame that cannot be decoded or has the wrong size is kept as a
     // defect: it is delivered in its turn with no pixels, gets no estimate
     // (named "unreadable" / "wrong-size") and is counted, like a camera

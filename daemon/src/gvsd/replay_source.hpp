@@ -20,6 +20,9 @@ class ReplaySource final : public FrameSource {
   /// Throws std::runtime_error naming the folder when it cannot be read or
   /// is larger than `preload_limit_mb`.
   ReplaySource(const std::filesystem::path& folder, double preload_limit_mb);
+  /// The constructor's checks of the dataset's index, without decoding a
+  /// frame (gvsd --check-config). Returns the dataset's geometry.
+  static dsp::CameraGeometry check(const std::filesystem::path& folder, double preload_limit_mb);
 
   [[nodiscard]] std::string describe() const override;
   [[nodiscard]] dsp::CameraGeometry geometry() const override { return geometry_; }

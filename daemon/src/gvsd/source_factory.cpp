@@ -30,43 +30,81 @@ LibcameraSettings libcamera_settings(const DaemonConfig& config, const std::stri
   return s;
 }
 
+namespace {
+
+struct SourceUri {
+  std::string scheme;  ///< sim, replay or libcamera
+  std::string rest;    ///< scenario, folder or camera id
+};
+
+SourceUri split_source_uri(const std::string& uri) {
+  const auto colon = uri.find(':');
+  SourceUri u{uri.substr(0, colon), colon == std::string::npos ? std::string() : uri.substr(colon + 1)};
+  if (u.scheme == "sim" && u.rest.empty()) throw std::runtime_error("source '" + uri + "': name a scenario, e.g. sim:sine");
+  if (u.scheme == "replay" && u.rest.empty()) {
+    throw std::runtime_error("source '" + uri + "': name a dataset folder, e.g. replay:/data/run1");
+  }
+  if (u.scheme != "sim" && u.scheme != "replay" && u.scheme != "libcamera") {
+    throw std::runtime_error("source '" + uri + "': unknown kind; use sim:SCENARIO, replay:DIR or libcamera[:ID]");
+  }
+  return u;
+}
+
+drivers::SimulatorConfig sim_config(const DaemonConfig& config, const std::string& scenario) {
+  drivers::SimulatorConfig sim;
+  sim.scenario = scenario;
+  sim.fps = config.sim_fps;
+  sim.seed = static_cast<std::uint64_t>(config.sim_seed);
+  sim.ground = config.sim_ground;
+  sim.exposure_us = config.exposure_initial_us;
+  sim.camera = config.camera;
+  sim.loop = true;
+  // Rendered live beside the estimator: the cheap periodic texture
+  // (SimulatorConfig::periodic_texture, docs/simulator.md).
+  sim.periodic_texture = true;
+  return sim;
+}
+
+}  // namespace
+
 std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config) {
   const std::string& uri = config.source_uri;
-  const auto colon = uri.find(':');
-  const std::string scheme = uri.substr(0, colon);
-  const std::string rest = colon == std::string::npos ? std::string() : uri.substr(colon + 1);
-
-  if (scheme == "sim") {
-    if (rest.empty()) throw std::runtime_error("source '" + uri + "': name a scenario, e.g. sim:sine");
-    drivers::SimulatorConfig sim;
-    sim.scenario = rest;
-    sim.fps = config.sim_fps;
-    sim.seed = static_cast<std::uint64_t>(config.sim_seed);
-    sim.ground = config.sim_ground;
-    sim.exposure_us = config.exposure_initial_us;
-    sim.camera = config.camera;
-    sim.loop = true;
-    // Rendered live beside the estimator: the cheap periodic texture
-    // (SimulatorConfig::periodic_texture, docs/simulator.md).
-    sim.periodic_texture = true;
+  const SourceUri u = split_source_uri(uri);
+  if (u.scheme == "sim") {
     try {
-      return std::make_unique<SimSource>(sim);
+      return std::make_unique<SimSource>(sim_config(config, u.rest));
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error("source '" + uri + "': " + e.what());
     }
   }
-  if (scheme == "replay") {
-    if (rest.empty()) throw std::runtime_error("source '" + uri + "': name a dataset folder, e.g. replay:/data/run1");
-    return std::make_unique<ReplaySource>(rest, config.replay_preload_limit_mb);
+  if (u.scheme == "replay") return std::make_unique<ReplaySource>(u.rest, config.replay_preload_limit_mb);
+  try {
+    return std::make_unique<LibcameraSource>(drivers::make_libcamera_device(), libcamera_settings(config, u.rest));
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("source '" + uri + "': " + e.what());
   }
-  if (scheme == "libcamera") {
+}
+
+dsp::CameraGeometry check_frame_source(const DaemonConfig& config) {
+  const std::string& uri = config.source_uri;
+  const SourceUri u = split_source_uri(uri);
+  if (u.scheme == "sim") {
     try {
-      return std::make_unique<LibcameraSource>(drivers::make_libcamera_device(), libcamera_settings(config, rest));
-    } catch (const std::runtime_error& e) {
+      // The simulator checks its settings, builds the scenario and loads the
+      // ground as SimSource does, without the first live render.
+      const drivers::Simulator sim(sim_config(config, u.rest));
+    } catch (const std::invalid_argument& e) {
       throw std::runtime_error("source '" + uri + "': " + e.what());
     }
+    return config.camera;
   }
-  throw std::runtime_error("source '" + uri + "': unknown kind; use sim:SCENARIO, replay:DIR or libcamera[:ID]");
+  if (u.scheme == "replay") return ReplaySource::check(u.rest, config.replay_preload_limit_mb);
+  try {
+    (void)libcamera_settings(config, u.rest);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("source '" + uri + "': " + e.what());
+  }
+  return config.camera;
 }
 
 }  // namespace gvs::daemon

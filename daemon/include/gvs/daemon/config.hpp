@@ -1,5 +1,7 @@
 // gvsd's configuration: a TOML file (systemd/gvsd.toml is the documented
-// example), then the command line on top.
+// example), then the command line on top. The keys, their ranges and which
+// SIGHUP applies are declared in config_keys.hpp's table; the defaults are
+// the initializers below.
 #pragma once
 
 #include <cstdint>
@@ -44,9 +46,9 @@ struct DaemonConfig {
   std::string can_uri = "candump:-";
   int period_ms = 20;
   int status_period_ms = 100;
-  double staleness_limit_ms = 50.0;   ///< reloadable
-  double late_wakeup_limit_ms = 1.0;  ///< reloadable: a sender wake-up later than this counts as late
-  double min_quality = 0.3;           ///< reloadable: estimates of lower quality go out with every Valid bit 0
+  double staleness_limit_ms = 50.0;
+  double late_wakeup_limit_ms = 1.0;
+  double min_quality = 0.3;
   std::uint32_t base_id = 0x300;      ///< CAN ID of GVS_Velocity; the others follow (can/gvs.dbc)
 
   // [camera]
@@ -57,13 +59,13 @@ struct DaemonConfig {
   // [estimator]
   std::string estimator_method = "gvs";
 
-  // [exposure] (reloadable; see dsp/exposure_control.hpp)
+  // [exposure] (dsp/exposure_control.hpp)
   std::string exposure_mode = "double-pulse";  ///< fixed | adaptive | double-pulse
   double exposure_initial_us = 3000.0;
   double exposure_max_us = 3000.0;     ///< longest continuous exposure
   double exposure_min_pulse_us = 2.0;  ///< shortest LED pulse
 
-  // [libcamera] (source libcamera[:ID]; restart only)
+  // [libcamera] (source libcamera[:ID])
   double libcamera_fps = 60.0;
   std::string libcamera_pixel_format = "YUV420";  ///< YUV420 (through the ISP) | R8 (8-bit mono raw)
   int libcamera_buffer_count = 4;
@@ -72,10 +74,10 @@ struct DaemonConfig {
   double libcamera_gain_max = 8.0;
   double libcamera_stall_periods = 3.0;
   double libcamera_retry_interval_ms = 500.0;
-  // [light] LED ring and trigger (drivers/strobe.hpp); restart only
+  // [light] LED ring and trigger (drivers/strobe.hpp)
   drivers::StrobeConfig light;
 
-  // [plausibility] (reloadable; daemon/include/gvs/daemon/plausibility_gate.hpp)
+  // [plausibility] (plausibility_gate.hpp)
   PlausibilityLimits plausibility;
 
   // [threads]
@@ -85,7 +87,7 @@ struct DaemonConfig {
   bool lock_memory = true;
   int prefault_stack_kb = 256;
 
-  // [log] (reloadable)
+  // [log]
   std::string log_level = "info";
   double health_interval_s = 5.0;
 
@@ -98,10 +100,14 @@ DaemonConfig parse_config(std::string_view toml_text, const std::string& origin)
 /// Reads and parses a file. Throws ConfigError (also when it cannot be read).
 DaemonConfig load_config_file(const std::filesystem::path& file);
 
-/// Settings that differ between `running` and `reloaded` but only take
-/// effect at a restart (by key name, e.g. "source.uri").
+/// Keys that differ between `running` and `reloaded` but only take effect
+/// at a restart (by key, e.g. "source.uri"; config_keys.hpp says which).
 std::vector<std::string> restart_only_changes(const DaemonConfig& running,
                                               const DaemonConfig& reloaded);
+
+/// SIGHUP: copies every key SIGHUP applies from `reloaded` into `running`
+/// and returns the changed ones ("can.min_quality = 0.4 (was 0.3)").
+std::vector<std::string> apply_reloadable_keys(DaemonConfig& running, const DaemonConfig& reloaded);
 
 /// The list of log levels accepted in [log] level.
 const std::vector<std::string>& log_level_names();

@@ -58,4 +58,10 @@ class FrameSource {
 /// message saying what to do.
 std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config);
 
+/// The checks make_frame_source runs before it opens a camera: the URI, the
+/// simulator's settings, scenario and ground photo, the replay dataset's
+/// index and memory limit, the libcamera settings. Returns the frames'
+/// geometry; throws std::runtime_error with make_frame_source's message.
+dsp::CameraGeometry check_frame_source(const DaemonConfig& config);
+
 }  // namespace gvs::daemon

@@ -17,85 +17,112 @@ inline void raise_max(std::atomic<std::int64_t>& m, std::int64_t v) noexcept {
   if (v > m.load(std::memory_order_relaxed)) m.store(v, std::memory_order_relaxed);
 }
 
+/// Where a counter is shown in the health line (format_health_line).
+enum class HealthGroup : std::uint8_t { capture, processing, can, exposure, light, none };
+
+enum class HealthShow : std::uint8_t {
+  value,    ///< the text with the value
+  delta,    ///< the text, then the change since the previous line: "ring overruns 2 (+2)"
+  nonzero,  ///< the text only when the value is not 0
+  hidden,   ///< not in the line (heartbeats for the watchdog, the sender's own tick count)
+};
+
+// Every health counter, declared once:
+//   X(name, type, writing thread, group in the line, how it is shown, text, unit, help)
+// The text is a fmt template: {v} the value, {rate:.1f} the change per second,
+// {ms:.2f} a nanosecond value in milliseconds. HealthCounters, HealthSnapshot,
+// snapshot(), kHealthFields and the health line are all made from this list.
+// Types: std::uint64_t counts, std::int64_t maxima (ns), int for an errno.
+#define GVS_HEALTH_COUNTERS(X)                                                                                      \
+  X(frames_captured, std::uint64_t, capture, capture, value, "{v} frames ({rate:.1f} fps)", "frames",               \
+    "frames the source delivered")                                                                                \
+  X(ring_overruns, std::uint64_t, capture, capture, delta, "ring overruns {v}", "frames",                           \
+    "frames lost because every slot was busy")                                                                    \
+  X(frames_dropped, std::uint64_t, capture, capture, delta, "dropped {v}", "frames",                                \
+    "gaps in the source's frame index")                                                                           \
+  X(source_errors, std::uint64_t, capture, capture, delta, "source errors {v}", "frames",                           \
+    "frames the source could not read")                                                                           \
+  X(capture_late, std::uint64_t, capture, capture, value, "late {v}", "frames",                                    \
+    "frames delivered more than a period late")                                                                   \
+  X(exposure_updates, std::uint64_t, capture, exposure, value, "exposure updates {v}", "plans",                    \
+    "exposure plans applied to the source")                                                                       \
+  X(capture_heartbeat, std::uint64_t, capture, none, hidden, "", "attempts", "capture loop progress (watchdog)")   \
+  X(light_plans, std::uint64_t, capture, light, value, "{v} plans", "frames",                                      \
+    "frames whose exposure plan the [light] driver fired")                                                        \
+  X(light_edges, std::uint64_t, capture, light, value, "{v} edges", "edges", "output edges driven")                \
+  X(light_late_edges, std::uint64_t, capture, light, delta, "late edges {v}", "edges",                             \
+    "edges later than [light] late_limit_us")                                                                     \
+  X(light_errors, std::uint64_t, capture, light, delta, "errors {v}", "errors",                                    \
+    "failed set-value / sysfs writes, plans the driver refused")                                                  \
+  X(light_late_max_ns, std::int64_t, capture, light, value, "max lateness {ms:.3f} ms", "ns",                      \
+    "latest edge so far")                                                                                         \
+  X(frames_processed, std::uint64_t, processing, processing, value, "{v} frames", "frames",                        \
+    "frames the estimator ran on")                                                                                \
+  X(frames_skipped, std::uint64_t, processing, processing, delta, "skipped {v}", "frames",                         \
+    "older frames passed over for the newest")                                                                    \
+  X(frames_rejected, std::uint64_t, processing, processing, delta, "rejected {v}", "frames",                       \
+    "bad input frames (unreadable, wrong size or exposure, time backwards)")                                      \
+  X(estimator_failures, std::uint64_t, processing, processing, delta, "estimator failures {v}", "frames",          \
+    "frames without a speed estimate")                                                                            \
+  X(implausible_estimates, std::uint64_t, processing, processing, delta, "implausible {v}", "estimates",           \
+    "held back by the plausibility gate")                                                                         \
+  X(processing_max_ns, std::int64_t, processing, processing, value, "max {ms:.2f} ms", "ns",                       \
+    "longest estimate so far")                                                                                    \
+  X(processing_heartbeat, std::uint64_t, processing, none, hidden, "", "loops",                                    \
+    "processing loop progress (watchdog)")                                                                        \
+  X(frames_sent, std::uint64_t, sender, can, value, "{v} frames sent", "CAN frames", "CAN frames written")         \
+  X(invalid_sent, std::uint64_t, sender, can, delta, "{v} flagged invalid", "messages",                            \
+    "velocity messages flagged invalid (stale, no estimate, low quality, implausible)")                           \
+  X(send_errors, std::uint64_t, sender, can, delta, "send errors {v}", "CAN frames", "CAN frames not written")      \
+  X(last_send_errno, int, sender, can, nonzero, "last errno {v}", "errno", "the last send error's errno")            \
+  X(late_wakeups, std::uint64_t, sender, can, delta, "late wake-ups {v}", "periods",                               \
+    "woke later than [can] late_wakeup_limit_ms")                                                                 \
+  X(missed_ticks, std::uint64_t, sender, can, value, "missed periods {v}", "periods", "whole periods skipped")     \
+  X(wakeup_late_max_ns, std::int64_t, sender, can, value, "max lateness {ms:.3f} ms", "ns",                        \
+    "latest wake-up so far")                                                                                      \
+  X(sender_ticks, std::uint64_t, sender, none, hidden, "", "periods", "periods the sender ran")                    \
+  X(sender_heartbeat, std::uint64_t, sender, none, hidden, "", "periods", "sender loop progress (watchdog)")
+
+/// The counters the threads write: one writing thread each.
 struct HealthCounters {
-  // capture thread
-  std::atomic<std::uint64_t> frames_captured{0};
-  std::atomic<std::uint64_t> ring_overruns{0};     ///< frames lost because every slot was busy
-  std::atomic<std::uint64_t> frames_dropped{0};    ///< gaps in the source's frame index
-  std::atomic<std::uint64_t> source_errors{0};
-  std::atomic<std::uint64_t> capture_late{0};      ///< frames delivered more than a period late
-  std::atomic<std::uint64_t> exposure_updates{0};
-  std::atomic<std::uint64_t> capture_heartbeat{0};
-  // capture thread: LED ring and trigger ([light])
-  std::atomic<std::uint64_t> light_plans{0};       ///< frames whose exposure plan was fired
-  std::atomic<std::uint64_t> light_edges{0};       ///< output edges driven
-  std::atomic<std::uint64_t> light_late_edges{0};  ///< edges later than [light] late_limit_us
-  std::atomic<std::uint64_t> light_errors{0};      ///< failed set-value / sysfs writes, plans the driver refused
-  std::atomic<std::int64_t> light_late_max_ns{0};
-  // processing thread
-  std::atomic<std::uint64_t> frames_processed{0};
-  std::atomic<std::uint64_t> frames_skipped{0};    ///< older frames passed over for the newest
-  std::atomic<std::uint64_t> estimator_failures{0};///< frames without a speed estimate
-  std::atomic<std::uint64_t> frames_rejected{0};   ///< bad input frames (unreadable, wrong size or exposure, time backwards)
-  std::atomic<std::uint64_t> implausible_estimates{0};///< held back by the plausibility gate
-  std::atomic<std::int64_t> processing_max_ns{0};
-  std::atomic<std::uint64_t> processing_heartbeat{0};
-  // sender thread
-  std::atomic<std::uint64_t> sender_ticks{0};
-  std::atomic<std::uint64_t> late_wakeups{0};      ///< woke later than the configured tolerance
-  std::atomic<std::uint64_t> missed_ticks{0};      ///< whole periods skipped
-  std::atomic<std::uint64_t> send_errors{0};
-  std::atomic<std::uint64_t> frames_sent{0};
-  std::atomic<std::uint64_t> invalid_sent{0};      ///< velocity messages flagged invalid (stale, no estimate, low quality, implausible)
-  std::atomic<std::int64_t> wakeup_late_max_ns{0};
-  std::atomic<int> last_send_errno{0};
-  std::atomic<std::uint64_t> sender_heartbeat{0};
+#define GVS_HEALTH_ATOMIC(name, type, thread, group, show, text, unit, help) std::atomic<type> name{0};
+  GVS_HEALTH_COUNTERS(GVS_HEALTH_ATOMIC)
+#undef GVS_HEALTH_ATOMIC
 };
 
 /// A plain copy of the counters at one moment.
 struct HealthSnapshot {
-  std::uint64_t frames_captured = 0, ring_overruns = 0, frames_dropped = 0, source_errors = 0,
-                capture_late = 0, exposure_updates = 0;
-  std::uint64_t light_plans = 0, light_edges = 0, light_late_edges = 0, light_errors = 0;
-  std::int64_t light_late_max_ns = 0;
-  std::uint64_t frames_processed = 0, frames_skipped = 0, estimator_failures = 0, frames_rejected = 0,
-                implausible_estimates = 0;
-  std::int64_t processing_max_ns = 0;
-  std::uint64_t sender_ticks = 0, late_wakeups = 0, missed_ticks = 0, send_errors = 0,
-                frames_sent = 0, invalid_sent = 0;
-  std::int64_t wakeup_late_max_ns = 0;
-  int last_send_errno = 0;
+#define GVS_HEALTH_VALUE(name, type, thread, group, show, text, unit, help) type name = 0;
+  GVS_HEALTH_COUNTERS(GVS_HEALTH_VALUE)
+#undef GVS_HEALTH_VALUE
 };
 
 inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
-  constexpr auto r = std::memory_order_relaxed;
   HealthSnapshot s;
-  s.frames_captured = c.frames_captured.load(r);
-  s.ring_overruns = c.ring_overruns.load(r);
-  s.frames_dropped = c.frames_dropped.load(r);
-  s.source_errors = c.source_errors.load(r);
-  s.capture_late = c.capture_late.load(r);
-  s.exposure_updates = c.exposure_updates.load(r);
-  s.light_plans = c.light_plans.load(r);
-  s.light_edges = c.light_edges.load(r);
-  s.light_late_edges = c.light_late_edges.load(r);
-  s.light_errors = c.light_errors.load(r);
-  s.light_late_max_ns = c.light_late_max_ns.load(r);
-  s.frames_processed = c.frames_processed.load(r);
-  s.frames_skipped = c.frames_skipped.load(r);
-  s.estimator_failures = c.estimator_failures.load(r);
-  s.frames_rejected = c.frames_rejected.load(r);
-  s.implausible_estimates = c.implausible_estimates.load(r);
-  s.processing_max_ns = c.processing_max_ns.load(r);
-  s.sender_ticks = c.sender_ticks.load(r);
-  s.late_wakeups = c.late_wakeups.load(r);
-  s.missed_ticks = c.missed_ticks.load(r);
-  s.send_errors = c.send_errors.load(r);
-  s.frames_sent = c.frames_sent.load(r);
-  s.invalid_sent = c.invalid_sent.load(r);
-  s.wakeup_late_max_ns = c.wakeup_late_max_ns.load(r);
-  s.last_send_errno = c.last_send_errno.load(r);
+#define GVS_HEALTH_COPY(name, type, thread, group, show, text, unit, help) s.name = c.name.load(std::memory_order_relaxed);
+  GVS_HEALTH_COUNTERS(GVS_HEALTH_COPY)
+#undef GVS_HEALTH_COPY
   return s;
 }
+
+/// One declared counter, for the health line and its documentation.
+struct HealthField {
+  const char* name;
+  const char* thread;  ///< the one thread that writes it
+  HealthGroup group;
+  HealthShow show;
+  const char* text;  ///< fmt template: {v}, {rate}, {ms}
+  const char* unit;
+  const char* help;
+  std::int64_t (*value)(const HealthSnapshot&) noexcept;
+};
+
+inline constexpr HealthField kHealthFields[] = {
+#define GVS_HEALTH_FIELD(name, type, thread, group, show, text, unit, help)                                   \
+  {#name, #thread, HealthGroup::group, HealthShow::show, text, unit, help,                                   \
+   [](const HealthSnapshot& s) noexcept { return static_cast<std::int64_t>(s.name); }},
+    GVS_HEALTH_COUNTERS(GVS_HEALTH_FIELD)
+#undef GVS_HEALTH_FIELD
+};
 
 }  // namespace gvs::daemon

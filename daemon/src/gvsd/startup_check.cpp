@@ -1,0 +1,19 @@
+#include "gvs/daemon/startup_check.hpp"
+
+#include <stdexcept>
+
+#include "gvs/can/sink.hpp"
+#include "gvs/daemon/config.hpp"
+#include "gvs/daemon/frame_estimator.hpp"
+#include "gvs/daemon/frame_source.hpp"
+
+namespace gvs::daemon {
+
+std::string check_startup(const DaemonConfig& config) {
+  const dsp::CameraGeometry geometry = check_frame_source(config);
+  const std::string estimator = make_frame_estimator(config.estimator_method, geometry)->name();
+  (void)can::parse_sink_uri(config.can_uri);  // the form open_sink checks before it opens anything
+  return estimator;
+}
+
+}  // namespace gvs::daemon
