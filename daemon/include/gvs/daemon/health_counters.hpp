@@ -3,8 +3,11 @@
 // and the sender copies them into the status message.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
+
+#include "gvs/daemon/reject_reason.hpp"
 
 namespace gvs::daemon {
 
@@ -37,6 +40,7 @@ struct HealthCounters {
   std::atomic<std::uint64_t> frames_skipped{0};    ///< older frames passed over for the newest
   std::atomic<std::uint64_t> estimator_failures{0};///< frames without a speed estimate
   std::atomic<std::uint64_t> frames_rejected{0};   ///< bad input frames (unreadable, wrong size or exposure, time backwards)
+  std::array<std::atomic<std::uint64_t>, kRejectReasonCount> frames_rejected_by{};  ///< the same, per RejectReason
   std::atomic<std::uint64_t> implausible_estimates{0};///< held back by the plausibility gate
   std::atomic<std::int64_t> processing_max_ns{0};
   std::atomic<std::uint64_t> processing_heartbeat{0};
@@ -60,6 +64,7 @@ struct HealthSnapshot {
   std::int64_t light_late_max_ns = 0;
   std::uint64_t frames_processed = 0, frames_skipped = 0, estimator_failures = 0, frames_rejected = 0,
                 implausible_estimates = 0;
+  RejectCounts frames_rejected_by{};
   std::int64_t processing_max_ns = 0;
   std::uint64_t sender_ticks = 0, late_wakeups = 0, missed_ticks = 0, send_errors = 0,
                 frames_sent = 0, invalid_sent = 0;
@@ -85,6 +90,7 @@ inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
   s.frames_skipped = c.frames_skipped.load(r);
   s.estimator_failures = c.estimator_failures.load(r);
   s.frames_rejected = c.frames_rejected.load(r);
+  for (std::size_t i = 0; i < kRejectReasonCount; ++i) s.frames_rejected_by[i] = c.frames_rejected_by[i].load(r);
   s.implausible_estimates = c.implausible_estimates.load(r);
   s.processing_max_ns = c.processing_max_ns.load(r);
   s.sender_ticks = c.sender_ticks.load(r);
