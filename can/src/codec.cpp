@@ -108,7 +108,7 @@ CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t c
   return f;
 }
 
-VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* e, std::int64_t now_ns, const ValidityRule& rule,
+VelocityPair velocity_from_estimate(const BusEstimate* e, std::int64_t now_ns, const ValidityRule& rule,
                                     bool plausible) noexcept {
   VelocityPair out;
   if (e == nullptr) return out;  // all invalid, age 65535
@@ -133,7 +133,7 @@ VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* e, std::int64_t
   if (v.yaw_rate_valid) v.yaw_rate_dps = e->yaw_rate_dps;
 
   const auto& sx = kVelocityXySignals;
-  out.xy.valid = e->has_velocity_xy() && in_range(sx[sig_velocity_xy::kVx], e->vx_mps) &&
+  out.xy.valid = e->has_velocity_xy && in_range(sx[sig_velocity_xy::kVx], e->vx_mps) &&
                  in_range(sx[sig_velocity_xy::kVy], e->vy_mps);
   if (out.xy.valid) {
     out.xy.vx_mps = e->vx_mps;
@@ -144,14 +144,6 @@ VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* e, std::int64_t
 
 Encoder::Encoder(const EncoderConfig& config) : config_(config), ids_{config.base_id} {
   validate_base_id(config.base_id);
-  if (config.stale_after_ms <= 0) {
-    throw std::invalid_argument("CAN stale_after_ms must be > 0 (got " + std::to_string(config.stale_after_ms) +
-                                "); set it to the age in ms after which estimates are flagged invalid");
-  }
-  if (!(config.min_quality >= 0.0 && config.min_quality <= 1.0)) {
-    throw std::invalid_argument("CAN min_quality must be in 0 .. 1 (got " + std::to_string(config.min_quality) +
-                                "); set it to the lowest estimator quality that may go out as valid");
-  }
 }
 
 std::uint8_t Encoder::next_counter(MessageKind kind) noexcept {
@@ -174,12 +166,12 @@ CanFrame Encoder::timing(const TimingMsg& m) noexcept {
   return encode_timing(m, ids_, next_counter(MessageKind::Timing));
 }
 
-void Encoder::estimate_frames(const dsp::VelocityEstimate* estimate, std::int64_t now_ns, CanFrame& velocity_out,
-                              CanFrame& xy_out, bool plausible) noexcept {
-  const VelocityPair p =
-      velocity_from_estimate(estimate, now_ns, {config_.stale_after_ms, config_.min_quality}, plausible);
+VelocityPair Encoder::estimate_frames(const BusEstimate* estimate, std::int64_t now_ns, const ValidityRule& rule,
+                                      bool plausible, CanFrame& velocity_out, CanFrame& xy_out) noexcept {
+  const VelocityPair p = velocity_from_estimate(estimate, now_ns, rule, plausible);
   velocity_out = velocity(p.velocity);
   xy_out = velocity_xy(p.xy);
+  return p;
 }
 
 DecodedFrame decode(const CanFrame& frame, const MessageIds& ids) noexcept {

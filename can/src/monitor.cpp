@@ -144,11 +144,11 @@ std::string MonitorState::render(std::int64_t now_ns) const {
     out += "vx/vy: no GVS_VelocityXY received\n";
   }
   if (has(MessageKind::Status)) {
-    appendf(out, "state %-9s faults 0x%04X%s  dropped %u  overruns %u  CAN send errors %u  method %.*s\n",
+    const char* word = method_word_ != nullptr ? method_word_(status_.method) : nullptr;
+    appendf(out, "state %-9s faults 0x%04X%s  dropped %u  overruns %u  CAN send errors %u  method %u (%s)\n",
             std::string(state_name(static_cast<std::uint8_t>(status_.state))).c_str(), status_.faults,
-            fault_names(status_.faults).c_str(),
-            status_.dropped_frames, status_.ring_overruns, status_.can_send_errors,
-            static_cast<int>(method_name(status_.method).size()), method_name(status_.method).data());
+            fault_names(status_.faults).c_str(), status_.dropped_frames, status_.ring_overruns,
+            status_.can_send_errors, status_.method, word != nullptr ? word : "?");
   }
   if (has(MessageKind::Timing)) {
     appendf(out, "exposure %" PRIu32 " us  processing %" PRIu32 " us  late wake-ups %u\n", timing_.exposure_us,

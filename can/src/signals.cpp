@@ -4,20 +4,6 @@
 
 namespace gvs::can {
 
-std::uint8_t method_code(std::string_view name) noexcept {
-  for (const MethodCode& m : kMethodCodes) {
-    if (m.name == name) return m.code;
-  }
-  return 255;
-}
-
-std::string_view method_name(std::uint8_t code) noexcept {
-  for (const MethodCode& m : kMethodCodes) {
-    if (m.code == code) return m.name;
-  }
-  return "other";
-}
-
 std::string_view state_name(std::uint8_t code) noexcept {
   switch (code) {
     case 0: return "init";

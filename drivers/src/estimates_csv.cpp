@@ -34,7 +34,7 @@ std::string format_estimate_row(const dsp::VelocityEstimate& e) {
   append(s, e.has_yaw_rate, e.yaw_rate_dps, 4);
   append(s, true, e.quality, 3);
   s += ',';
-  s += e.method;
+  s += dsp::method_word(e.method);
   return s;
 }
 
@@ -90,7 +90,7 @@ std::vector<EstimateRow> read_estimates_csv(const fs::path& file) {
       e.has_speed = true;
     }
     if (!detail::parse_double(field(7), e.quality)) e.quality = 0.0;
-    r.method = std::string(field(8));
+    e.method = dsp::method_from_word(field(8)).value_or(dsp::Method::unknown);
     rows.push_back(std::move(r));
   }
   return rows;

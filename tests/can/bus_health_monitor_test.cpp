@@ -120,16 +120,16 @@ TEST(Monitor, RatesCountersAndValues) {
   Encoder enc({});
   MonitorState mon;
   std::int64_t t = 1'000'000'000;
-  dsp::VelocityEstimate e;
-  e.has_speed = e.has_direction = true;
+  BusEstimate e;
+  e.has_speed = e.has_direction = e.has_velocity_xy = true;
   e.speed_mps = 10.0;
   e.vx_mps = 10.0;
   e.direction_deg = 0.0;
-  e.quality = 0.9;  // above the encoder's min_quality
+  e.quality = 0.9;  // above the rule's min_quality
   for (int cycle = 0; cycle < 100; ++cycle) {
     e.t_ns = t - 5'000'000;
     CanFrame v, x;
-    enc.estimate_frames(&e, t, v, x);
+    enc.estimate_frames(&e, t, ValidityRule{}, true, v, x);
     mon.feed(v, t);
     mon.feed(x, t + 100'000);
     if (cycle % 5 == 0) mon.feed(enc.status({SensorState::Running, 0, 0, 0, 0, 16}), t + 200'000);

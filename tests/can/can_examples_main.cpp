@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
       frames[n++] = enc.velocity(v);
       frames[n++] = enc.velocity_xy({true, 19.99, 0.52, 6});
       if (cycle % 5 == 0) {
-        frames[n++] = enc.status({SensorState::Running, 0, 3, 0, 0, method_code("thesis")});
+        frames[n++] = enc.status({SensorState::Running, 0, 3, 0, 0, 33});  // GVS_Method 33: pair
         frames[n++] = enc.timing({800, 1900, 0});
       }
       if (cycle == 70) frames[0].data[4] ^= 0x01;

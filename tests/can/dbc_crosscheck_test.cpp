@@ -13,6 +13,7 @@
 #include "gvs/can/codec.hpp"
 #include "gvs/can/e2e.hpp"
 #include "gvs/can/signals.hpp"
+#include "gvs/dsp/method.hpp"
 
 namespace gvs::can {
 namespace {
@@ -194,11 +195,12 @@ TEST(DbcCrossCheck, E2eHeaderReadThroughDbc) {
 
 TEST(DbcCrossCheck, ValueTablesMatchCode) {
   const DbcMessage& status = *dbc().find("GVS_Status");
+  // GVS_Method's codes and words are dsp's method table (gvs/dsp/method.hpp).
   const auto& methods = status.value_tables.at("GVS_Method");
-  EXPECT_EQ(methods.size(), std::size(kMethodCodes));
-  for (const MethodCode& mc : kMethodCodes) {
-    ASSERT_TRUE(methods.count(mc.code)) << mc.name;
-    EXPECT_EQ(methods.at(mc.code), mc.name);
+  EXPECT_EQ(methods.size(), dsp::kMethodCount);
+  for (const dsp::MethodInfo& m : dsp::kMethods) {
+    ASSERT_TRUE(methods.count(m.can_code)) << m.word;
+    EXPECT_EQ(methods.at(m.can_code), m.word);
   }
   const auto& states = status.value_tables.at("GVS_State");
   for (const auto& [code, text] : states) {

@@ -83,19 +83,18 @@ TEST(Encoder, CounterStepsPerMessageIdAndWraps) {
 }
 
 TEST(Encoder, RejectsBadConfigWithAMessage) {
-  EXPECT_THROW(Encoder({0x7FD, 100}), std::invalid_argument);
+  EXPECT_THROW(Encoder({0x7FD}), std::invalid_argument);
   try {
-    Encoder bad({0x800, 100});
+    Encoder bad({0x800});
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("0x800"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(Encoder({0x300, 0}), std::invalid_argument);
-  EXPECT_NO_THROW(Encoder({0x7FC, 50}));
+  EXPECT_NO_THROW(Encoder({0x7FC}));
 }
 
 TEST(Encoder, ConfigurableBaseIdMovesAllIdsAndDataIds) {
-  Encoder enc({0x123, 100});
+  Encoder enc({0x123});
   const CanFrame v = enc.velocity({});
   const CanFrame x = enc.velocity_xy({});
   const CanFrame s = enc.status({});
@@ -135,32 +134,31 @@ TEST(Codec, RoundTripWithinHalfAStep) {
 
 TEST(Codec, StatusAndTimingRoundTrip) {
   const MessageIds ids;
-  const StatusMsg s{SensorState::Fault, 0x0555, 200, 3, 77, method_code("thesis")};
+  const StatusMsg s{SensorState::Fault, 0x0555, 200, 3, 77, 42};
   const DecodedFrame d = decode(encode_status(s, ids, 1), ids);
   EXPECT_EQ(d.status_msg.state, SensorState::Fault);
   EXPECT_EQ(d.status_msg.faults, 0x0555);
   EXPECT_EQ(d.status_msg.dropped_frames, 200);
   EXPECT_EQ(d.status_msg.ring_overruns, 3);
   EXPECT_EQ(d.status_msg.can_send_errors, 77);
-  EXPECT_EQ(method_name(d.status_msg.method), "thesis");
+  EXPECT_EQ(d.status_msg.method, 42);
   const DecodedFrame t = decode(encode_timing({70000, 1234, 5}, ids, 1), ids);
   EXPECT_EQ(t.timing.exposure_us, 65535u) << "saturates";
   EXPECT_EQ(t.timing.processing_time_us, 1234u);
   EXPECT_EQ(t.timing.late_wakeups, 5);
-  EXPECT_EQ(method_code("some-new-method"), 255);
 }
 
-dsp::VelocityEstimate estimate_at(std::int64_t t_ns) {
-  dsp::VelocityEstimate e;
+BusEstimate estimate_at(std::int64_t t_ns) {
+  BusEstimate e;
   e.t_ns = t_ns;
-  e.has_speed = e.has_direction = e.has_yaw_rate = true;
+  e.has_speed = e.has_direction = e.has_yaw_rate = e.has_velocity_xy = true;
   e.vx_mps = 10.0;
   e.vy_mps = 1.0;
   e.speed_mps = std::hypot(10.0, 1.0);
   e.direction_deg = std::atan2(1.0, 10.0) * 180.0 / 3.141592653589793;
   e.yaw_rate_dps = 12.5;
   e.quality = 0.8;
-  e.method = "thesis";
+  e.method_code = 33;
   return e;
 }
 
@@ -207,6 +205,7 @@ TEST(VelocityFromEstimate, EachQuantityHasItsOwnAvailability) {
   auto e = estimate_at(0);
   e.has_speed = false;  // direction but no speed
   e.has_yaw_rate = false;
+  e.has_velocity_xy = false;
   VelocityPair p = velocity_from_estimate(&e, 0, {100, 0.2});
   EXPECT_FALSE(p.velocity.valid);
   EXPECT_FALSE(p.velocity.speed_valid);
@@ -289,30 +288,32 @@ TEST(VelocityFromEstimate, ImplausibleEstimateGoesOutInvalid) {
   EXPECT_EQ(p.xy.age_ms, 3u);
 }
 
-TEST(Encoder, AppliesItsMinimumQualityAndRefusesOneOutsideZeroToOne) {
+TEST(Encoder, EstimateFramesPackWhatTheRuleDecides) {
   auto e = estimate_at(0);
   e.quality = 0.3;
-  Encoder strict({.base_id = kDefaultBaseId, .stale_after_ms = 100, .min_quality = 0.5});
-  Encoder lenient({.base_id = kDefaultBaseId, .stale_after_ms = 100, .min_quality = 0.25});
+  Encoder enc({});
+  const ValidityRule strict{100, 0.5};
+  const ValidityRule lenient{100, 0.25};
   CanFrame v, xy;
-  strict.estimate_frames(&e, 0, v, xy);
-  EXPECT_FALSE(decode(v, strict.ids()).velocity.valid);
-  EXPECT_FALSE(decode(xy, strict.ids()).xy.valid);
-  lenient.estimate_frames(&e, 0, v, xy);
-  EXPECT_TRUE(decode(v, lenient.ids()).velocity.valid);
-  EXPECT_TRUE(decode(xy, lenient.ids()).xy.valid);
-  lenient.estimate_frames(&e, 0, v, xy, false);
-  EXPECT_FALSE(decode(v, lenient.ids()).velocity.valid) << "not plausible";
-  EXPECT_EQ(EncoderConfig{}.min_quality, 0.3);
-  try {
-    Encoder bad({.base_id = kDefaultBaseId, .stale_after_ms = 100, .min_quality = 1.5});
-    ADD_FAILURE() << "min_quality 1.5 accepted";
-  } catch (const std::invalid_argument& ex) {
-    EXPECT_NE(std::string(ex.what()).find("min_quality must be in 0 .. 1"), std::string::npos) << ex.what();
-  }
-  EXPECT_THROW(Encoder({.base_id = kDefaultBaseId, .stale_after_ms = 100,
-                        .min_quality = std::numeric_limits<double>::quiet_NaN()}),
-               std::invalid_argument);
+  VelocityPair p = enc.estimate_frames(&e, 0, strict, true, v, xy);
+  EXPECT_FALSE(p.velocity.valid);
+  EXPECT_FALSE(decode(v, enc.ids()).velocity.valid);
+  EXPECT_FALSE(decode(xy, enc.ids()).xy.valid);
+  p = enc.estimate_frames(&e, 0, lenient, true, v, xy);
+  EXPECT_TRUE(p.velocity.valid);
+  EXPECT_TRUE(decode(v, enc.ids()).velocity.valid);
+  EXPECT_TRUE(decode(xy, enc.ids()).xy.valid);
+  EXPECT_EQ(decode(v, enc.ids()).counter, 1) << "one alive counter step per call";
+  p = enc.estimate_frames(&e, 0, lenient, false, v, xy);
+  EXPECT_FALSE(p.velocity.valid);
+  EXPECT_FALSE(decode(v, enc.ids()).velocity.valid) << "not plausible";
+  p = enc.estimate_frames(&e, 101'000'000, lenient, true, v, xy);
+  EXPECT_FALSE(p.fresh);
+  EXPECT_FALSE(decode(v, enc.ids()).velocity.valid) << "stale";
+  EXPECT_EQ(decode(xy, enc.ids()).xy.age_ms, 101u);
+  p = enc.estimate_frames(nullptr, 0, lenient, true, v, xy);
+  EXPECT_FALSE(decode(v, enc.ids()).velocity.valid);
+  EXPECT_EQ(decode(xy, enc.ids()).xy.age_ms, 65535u) << "no estimate yet";
 }
 
 TEST(Decode, RejectsForeignAndMalformedFrames) {

@@ -107,11 +107,10 @@ bool set_link_up(const std::string& iface, bool up) {
   return ok;
 }
 
-gvs::dsp::VelocityEstimate estimate_for_cycle(int cycle, std::int64_t t_ns) {
-  gvs::dsp::VelocityEstimate e;
-  e.index = cycle;
+BusEstimate estimate_for_cycle(int cycle, std::int64_t t_ns) {
+  BusEstimate e;
   e.t_ns = t_ns - 7'000'000;  // 7 ms old at send time
-  e.has_speed = e.has_direction = true;
+  e.has_speed = e.has_direction = e.has_velocity_xy = true;
   e.has_yaw_rate = cycle % 2 == 0;
   e.speed_mps = 5.0 + 0.1 * cycle;
   e.direction_deg = -30.0 + 0.5 * cycle;
@@ -119,7 +118,7 @@ gvs::dsp::VelocityEstimate estimate_for_cycle(int cycle, std::int64_t t_ns) {
   e.vy_mps = e.speed_mps * std::sin(e.direction_deg * M_PI / 180.0);
   e.yaw_rate_dps = 10.0 - 0.2 * cycle;
   e.quality = 0.75;
-  e.method = "thesis";
+  e.method_code = 33;
   return e;
 }
 
@@ -133,13 +132,13 @@ struct CycleResult {
 /// One 20 ms cycle: two velocity frames, status + timing every fifth cycle.
 void run_cycle(Encoder& enc, SocketCanSink& sink, int cycle, std::int64_t t, std::vector<CanFrame>& sent,
                CycleResult& r) {
-  const gvs::dsp::VelocityEstimate e = estimate_for_cycle(cycle, t);
+  const BusEstimate e = estimate_for_cycle(cycle, t);
   CanFrame v, x;
-  enc.estimate_frames(&e, t, v, x);
+  enc.estimate_frames(&e, t, ValidityRule{}, true, v, x);
   std::vector<CanFrame> frames{v, x};
   if (cycle % 5 == 0) {
     StatusMsg st{SensorState::Running, 0, 0, 0, static_cast<std::uint8_t>(sink.counters().send_failures()),
-                 method_code("thesis")};
+                 e.method_code};
     st.faults = sink.take_fault_bits();
     r.fault_bits |= st.faults;
     frames.push_back(enc.status(st));

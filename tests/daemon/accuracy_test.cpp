@@ -36,7 +36,7 @@ EstimateRow estimate(std::int64_t index, std::optional<double> speed_kmh, std::o
   r.estimate.has_yaw_rate = yaw_dps.has_value();
   r.estimate.yaw_rate_dps = yaw_dps.value_or(0.0);
   r.estimate.quality = 1.0;
-  r.method = "test";
+  r.estimate.method = gvs::dsp::Method::pair;
   return r;
 }
 

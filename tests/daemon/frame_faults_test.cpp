@@ -10,11 +10,13 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "gvs/daemon/frame_estimator.hpp"
 #include "gvs/daemon/frame_processor.hpp"
 #include "gvs/drivers/simulator.hpp"
 #include "gvs/dsp/geometry.hpp"
@@ -53,7 +55,7 @@ class FrameFaults : public ::testing::Test {
     EXPECT_FALSE(e.has_speed) << what << " gave a speed (" << e.method << ")";
     EXPECT_FALSE(e.has_yaw_rate) << what;
     EXPECT_EQ(e.quality, 0.0) << what;
-    EXPECT_GT(std::string(e.method).size(), 0u) << what << ": no reason named";
+    EXPECT_NE(e.method, dsp::Method::none) << what << ": no reason named";
   }
 
   /// A bad frame with the timing of good frame `i` (it replaces it).
@@ -74,7 +76,7 @@ class FrameFaults : public ::testing::Test {
 struct BadFrame {
   std::string name;
   std::function<dsp::FrameView(const FrameFaults&, std::size_t)> make;
-  std::vector<std::string> reasons;  ///< acceptable names for "why no estimate"
+  std::vector<dsp::Method> reasons;  ///< acceptable outcomes for "why no estimate"
 };
 
 TEST_F(FrameFaults, EachBadFrameGetsNoEstimateAndTheNextGoodFrameIsMeasured) {
@@ -84,40 +86,42 @@ TEST_F(FrameFaults, EachBadFrameGetsNoEstimateAndTheNextGoodFrameIsMeasured) {
   rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
   const cv::Mat small(good_[0].gray.rows / 2, good_[0].gray.cols / 2, CV_8UC1, cv::Scalar(100));
   const std::vector<BadFrame> bad = {
-      {"black", [&](const FrameFaults&, std::size_t i) { return bad_like(i, filled(0)); }, {"dark"}},
-      {"saturated", [&](const FrameFaults&, std::size_t i) { return bad_like(i, filled(255)); }, {"saturated"}},
+      {"black", [&](const FrameFaults&, std::size_t i) { return bad_like(i, filled(0)); }, {dsp::Method::dark}},
+      {"saturated", [&](const FrameFaults&, std::size_t i) { return bad_like(i, filled(255)); },
+       {dsp::Method::saturated}},
       {"uniform grey", [&](const FrameFaults&, std::size_t i) { return bad_like(i, filled(128)); },
-       {"no-texture", "flat"}},
+       {dsp::Method::no_texture}},
       {"pure noise", [&](const FrameFaults&, std::size_t i) { return bad_like(i, noise.clone()); }, {}},
-      {"wrong size", [&](const FrameFaults&, std::size_t i) { return bad_like(i, small.clone()); }, {"wrong-size"}},
+      {"wrong size", [&](const FrameFaults&, std::size_t i) { return bad_like(i, small.clone()); },
+       {dsp::Method::wrong_size}},
       {"zero exposure",
        [&](const FrameFaults&, std::size_t i) {
          dsp::FrameView v = good_[i];
          v.exposure.exposure_us = 0.0;
          return v;
        },
-       {"bad-exposure"}},
+       {dsp::Method::bad_exposure}},
       {"absurd exposure (10 s)",
        [&](const FrameFaults&, std::size_t i) {
          dsp::FrameView v = good_[i];
          v.exposure.exposure_us = 1e7;
          return v;
        },
-       {"bad-exposure"}},
+       {dsp::Method::bad_exposure}},
       {"NaN exposure",
        [&](const FrameFaults&, std::size_t i) {
          dsp::FrameView v = good_[i];
          v.exposure.exposure_us = std::numeric_limits<double>::quiet_NaN();
          return v;
        },
-       {"bad-exposure"}},
+       {dsp::Method::bad_exposure}},
       {"time backwards",
        [&](const FrameFaults&, std::size_t i) {
          dsp::FrameView v = good_[i];
          v.t_ns = good_[0].t_ns - 1'000'000'000;
          return v;
        },
-       {"time-backwards"}},
+       {dsp::Method::time_backwards}},
   };
   for (const BadFrame& b : bad) {
     SCOPED_TRACE(b.name);
@@ -126,7 +130,7 @@ TEST_F(FrameFaults, EachBadFrameGetsNoEstimateAndTheNextGoodFrameIsMeasured) {
     const dsp::VelocityEstimate e = p.process(b.make(*this, 4));
     expect_nothing(e, b.name);
     if (!b.reasons.empty()) {
-      EXPECT_NE(std::find(b.reasons.begin(), b.reasons.end(), std::string(e.method)), b.reasons.end())
+      EXPECT_NE(std::find(b.reasons.begin(), b.reasons.end(), e.method), b.reasons.end())
           << b.name << " was named '" << e.method << "'";
     }
     // The next good frames are measured as usual (after "time backwards" the
@@ -137,6 +141,10 @@ TEST_F(FrameFaults, EachBadFrameGetsNoEstimateAndTheNextGoodFrameIsMeasured) {
     const bool input_reject = b.name == "wrong size" || b.name.find("exposure") != std::string::npos ||
                               b.name == "time backwards";
     EXPECT_EQ(r.total(), input_reject ? 1u : 0u) << b.name << " counted as an input reject";
+    for (const RejectReasonInfo& reason : kRejectReasons) {
+      const bool this_one = input_reject && reason.method == e.method;
+      EXPECT_EQ(r.of(reason.reason), this_one ? 1u : 0u) << b.name << " counted as " << reason.method;
+    }
   }
 }
 
@@ -160,13 +168,56 @@ TEST_F(FrameFaults, TimestampJumpForgetsThePairButMeasuresTheFrame) {
 TEST_F(FrameFaults, UnreadableFrameIsNamedCountedAndSkipped) {
   FrameProcessor p(config_);
   for (std::size_t i = 0; i < 4; ++i) expect_good(p.process(good_[i]), i, "start");
-  const dsp::VelocityEstimate e = p.reject(good_[4], "unreadable");
+  const dsp::VelocityEstimate e = p.reject(good_[4], RejectReason::unreadable);
   expect_nothing(e, "unreadable");
-  EXPECT_STREQ(e.method, "unreadable");
+  EXPECT_EQ(e.method, dsp::Method::unreadable);
   EXPECT_EQ(e.index, good_[4].index);
   for (std::size_t i = 5; i < 8; ++i) expect_good(p.process(good_[i]), i, "unreadable");
-  EXPECT_EQ(p.rejects().unreadable, 1u);
+  EXPECT_EQ(p.rejects().of(RejectReason::unreadable), 1u);
   EXPECT_EQ(p.rejects().total(), 1u);
+}
+
+// Each defect a source reports is counted under its own reason and names
+// itself in the estimate, so the health line tells a dark LED ring from an
+// unreadable file.
+TEST_F(FrameFaults, EachSourceDefectIsCountedUnderItsOwnReason) {
+  FrameProcessor p(config_);
+  for (std::size_t i = 0; i < 4; ++i) expect_good(p.process(good_[i]), i, "start");
+  std::uint64_t n = 0;
+  for (const RejectReasonInfo& reason : kRejectReasons) {
+    SCOPED_TRACE(reject_word(reason.reason));
+    for (std::uint64_t k = 0; k <= n; ++k) {  // reason i is reported i + 1 times
+      const dsp::VelocityEstimate e = p.reject(good_[4], reason.reason);
+      expect_nothing(e, reject_word(reason.reason));
+      EXPECT_EQ(e.method, reason.method);
+    }
+    ++n;
+  }
+  n = 0;
+  for (const RejectReasonInfo& reason : kRejectReasons) {
+    EXPECT_EQ(p.rejects().of(reason.reason), ++n) << reject_word(reason.reason);
+  }
+  EXPECT_EQ(p.rejects().total(), n * (n + 1) / 2);
+}
+
+// The processing thread's estimator: a slot the light check marked dark
+// counts as no-light-in-exposure, not as unreadable.
+TEST_F(FrameFaults, FrameEstimatorCountsSlotDefectsPerReason) {
+  const std::unique_ptr<FrameEstimator> est = make_frame_estimator("gvs", config_.estimator.camera);
+  FrameSlot slot;
+  slot.view = good_[0];
+  slot.defect = RejectReason::no_light_in_exposure;
+  EXPECT_EQ(est->estimate(slot).method, dsp::Method::no_light_in_exposure);
+  slot.view = good_[1];
+  slot.defect = RejectReason::no_exposure_metadata;
+  EXPECT_EQ(est->estimate(slot).method, dsp::Method::no_exposure_metadata);
+  slot.view = good_[2];
+  slot.defect = RejectReason::no_light_in_exposure;
+  (void)est->estimate(slot);
+  const RejectCounts counts = est->rejected_frames();
+  EXPECT_EQ(counts[static_cast<std::size_t>(RejectReason::no_light_in_exposure)], 2u);
+  EXPECT_EQ(counts[static_cast<std::size_t>(RejectReason::no_exposure_metadata)], 1u);
+  EXPECT_EQ(counts[static_cast<std::size_t>(RejectReason::unreadable)], 0u);
 }
 
 TEST_F(FrameFaults, ABurstOfBadFramesNeverGivesAnEstimate) {

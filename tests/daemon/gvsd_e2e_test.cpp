@@ -14,12 +14,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "gvs/daemon/clock.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
+#include "gvs/dsp/method.hpp"
 #include "gvsd_test_support.hpp"
 
 namespace gvs::daemon {
@@ -134,6 +136,28 @@ void must_show_run(const std::string& method, const std::string& source, Pace pa
   EXPECT_LT(p99, 10.0);
   const std::vector<double> status_periods = testing::periods_ms(msgs.status);
   EXPECT_NEAR(quantile(status_periods, 0.5), 100.0, 0.5);
+
+  // GVS_Method names the newest estimate's method with its own code: never
+  // 255, always one of the table's, and the run's measurements show up.
+  std::map<std::string, int> method_counts;
+  int measured = 0;
+  for (const testing::LoggedMessage& m : msgs.status) {
+    if (m.decoded.status_msg.state == can::SensorState::Init) continue;
+    const std::uint8_t code = m.decoded.status_msg.method;
+    EXPECT_NE(code, 255) << "GVS_Method 255 (unknown)";
+    const std::optional<dsp::Method> sent = dsp::method_from_can_code(code);
+    ASSERT_TRUE(sent.has_value()) << "GVS_Method " << int{code} << " is not in dsp::kMethods";
+    ++method_counts[dsp::method_word(*sent)];
+    const bool gvs_measurement = *sent == dsp::Method::pair || *sent == dsp::Method::still ||
+                                 *sent == dsp::Method::blur_cont || *sent == dsp::Method::blur_energy ||
+                                 *sent == dsp::Method::blur_fwd || *sent == dsp::Method::dpiv_cont ||
+                                 *sent == dsp::Method::dpiv_energy || *sent == dsp::Method::dpiv_fwd;
+    if (method == "truth" ? *sent == dsp::Method::truth : gvs_measurement) ++measured;
+  }
+  std::string seen;
+  for (const auto& [word, n] : method_counts) seen += " " + word + "=" + std::to_string(n);
+  std::printf("[ methods  ] %s: GVS_Method in the status messages:%s\n", method.c_str(), seen.c_str());
+  EXPECT_GT(measured, 0) << "no status message named a measurement:" << seen;
 
   // Values after the first 0.5 s. GVS_Velocity and GVS_VelocityXY of one
   // period are sent together: the i-th of each belong to the same estimate.
@@ -285,6 +309,7 @@ TEST(Gvsd, ReplayWithBrokenFramesPlaysOnAndCountsThem) {
       << err;
   EXPECT_NE(err.find("stopped (end of the source)"), std::string::npos) << err;
   EXPECT_NE(err.find("rejected 2"), std::string::npos) << err;
+  EXPECT_NE(err.find("[unreadable 2"), std::string::npos) << "both counted as unreadable: " << err;
   const auto msgs = read_candump_log(log.string());
   EXPECT_GT(msgs.velocity.size(), 40u) << "played on to the end";
 }

@@ -421,7 +421,7 @@ TEST(Health, LineCarriesTheCounters) {
   EXPECT_NE(line.find("late wake-ups 4"), std::string::npos) << line;
   EXPECT_NE(line.find("send errors 1"), std::string::npos) << line;
   EXPECT_NE(line.find("estimator failures 7"), std::string::npos) << line;
-  EXPECT_NE(line.find("rejected 5 (+5)"), std::string::npos) << line;
+  EXPECT_NE(line.find("rejected 5 (+5),"), std::string::npos) << "no reason counted, none listed: " << line;
   EXPECT_NE(line.find("implausible 2 (+2)"), std::string::npos) << line;
   EXPECT_NE(line.find("no estimate yet"), std::string::npos) << line;
   latest.sequence = 9;
@@ -430,6 +430,20 @@ TEST(Health, LineCarriesTheCounters) {
   latest.plausible = false;
   const std::string held = format_health_line(now, prev, latest, 0, 5.0);
   EXPECT_NE(held.find("implausible (held back)"), std::string::npos) << held;
+}
+
+TEST(Health, LineNamesEachRejectReason) {
+  HealthSnapshot prev;
+  HealthSnapshot now;
+  prev.frames_rejected_by[static_cast<std::size_t>(RejectReason::unreadable)] = 1;
+  now.frames_rejected_by[static_cast<std::size_t>(RejectReason::unreadable)] = 2;
+  now.frames_rejected_by[static_cast<std::size_t>(RejectReason::no_light_in_exposure)] = 4;
+  prev.frames_rejected = 1;
+  now.frames_rejected = 6;
+  const std::string line = format_health_line(now, prev, PublishedEstimate{}, 0, 5.0);
+  EXPECT_NE(line.find("rejected 6 (+5) [unreadable 2 (+1), no-light-in-exposure 4 (+4)]"), std::string::npos)
+      << line;
+  EXPECT_EQ(line.find("wrong-size"), std::string::npos) << "reasons that never occurred are left out: " << line;
 }
 
 }  // namespace

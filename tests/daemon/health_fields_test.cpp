@@ -27,7 +27,7 @@ TEST(HealthFields, LineShowsEveryDeclaredCounterAsDeclared) {
     const std::int64_t v = f.value(now);
     std::string item = fmt::format(fmt::runtime(f.text), fmt::arg("v", v), fmt::arg("rate", 3 / 5.0),
                                    fmt::arg("ms", static_cast<double>(v) / 1e6));
-    if (f.show == HealthShow::delta) item += " (+3)";
+    if (f.show == HealthShow::delta || f.show == HealthShow::delta_by_reason) item += " (+3)";
     if (f.show == HealthShow::hidden) {
       EXPECT_EQ(line.find(std::to_string(v)), std::string::npos) << f.name << " is hidden: " << line;
       continue;

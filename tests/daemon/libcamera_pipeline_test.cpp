@@ -23,7 +23,7 @@ class ConstantEstimator final : public FrameEstimator {
  public:
   dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
     const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
-    if (slot.defect != nullptr) return dsp::no_estimate(slot.view.index, mid_ns, slot.defect);
+    if (slot.defect) return dsp::no_estimate(slot.view.index, mid_ns, reject_method(*slot.defect));
     dsp::VelocityEstimate e;
     e.index = slot.view.index;
     e.t_ns = mid_ns;
@@ -34,7 +34,7 @@ class ConstantEstimator final : public FrameEstimator {
     e.speed_mps = 10.0;
     e.direction_deg = 2.0;
     e.quality = 1.0;
-    e.method = "constant";
+    e.method = dsp::Method::truth;
     return e;
   }
   void reset() noexcept override {}

@@ -133,7 +133,7 @@ TEST(LibcameraSource, DeliversPixelsTimestampAndTheExposureActuallyApplied) {
   EXPECT_EQ(rig.cam->seen_controls().frame_duration_us, 20000);
   EXPECT_GT(rig.slot.view.t_ns, now - 500 * kNsPerMs) << "SensorTimestamp on the monotonic clock";
   EXPECT_LE(rig.slot.view.t_ns, now);
-  EXPECT_EQ(rig.slot.defect, nullptr);
+  EXPECT_FALSE(rig.slot.defect.has_value());
   // Pixels copied row by row past the stride padding (0xEE never shows).
   const auto seq = static_cast<int>(rig.slot.view.index);
   for (int y = 0; y < 48; ++y) {
@@ -180,12 +180,12 @@ TEST(LibcameraSource, BackwardsTimestampIsCountedAndTheFrameGetsNoEstimate) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect != nullptr && std::string(rig.slot.defect) == "time-backwards";
+    seen = rig.slot.defect == RejectReason::time_backwards;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().timestamps_backwards, 1u);
   ASSERT_TRUE(rig.frame());
-  EXPECT_EQ(rig.slot.defect, nullptr) << "the next frame is good again";
+  EXPECT_FALSE(rig.slot.defect.has_value()) << "the next frame is good again";
 }
 
 TEST(LibcameraSource, MissingExposureMetadataIsNeverGuessed) {
@@ -195,7 +195,7 @@ TEST(LibcameraSource, MissingExposureMetadataIsNeverGuessed) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect != nullptr && std::string(rig.slot.defect) == "no-exposure-metadata";
+    seen = rig.slot.defect == RejectReason::no_exposure_metadata;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().no_exposure_metadata, 1u);

@@ -24,7 +24,7 @@ dsp::VelocityEstimate moving(std::int64_t t_ns, double speed_mps, double directi
   e.vx_mps = speed_mps * std::cos(direction_deg * M_PI / 180.0);
   e.vy_mps = speed_mps * std::sin(direction_deg * M_PI / 180.0);
   e.quality = 0.9;
-  e.method = "test";
+  e.method = dsp::Method::pair;
   return e;
 }
 
@@ -161,7 +161,7 @@ TEST(PlausibilityGate, DirectionIsFreeNearStandstill) {
 TEST(PlausibilityGate, EstimatesWithoutSpeedOrDirectionAreNotJudged) {
   PlausibilityGate gate;
   const std::int64_t t = cruise(gate, 20.0, 5);
-  const dsp::VelocityEstimate none = dsp::no_estimate(7, t, "dark");
+  const dsp::VelocityEstimate none = dsp::no_estimate(7, t, dsp::Method::dark);
   EXPECT_EQ(gate.check(none), Plausibility::unchecked);
   EXPECT_NEAR(gate.track().speed_mps, 20.0, 1e-9);
   dsp::VelocityEstimate nan_speed = moving(t, 20.0);

@@ -336,18 +336,18 @@ TEST(DoubleImage, ColumnFixedPatternDoesNotMakeASidePeak) {
 
 TEST(FrameCheck, NamesWhyThereIsNothingToMeasure) {
   cv::Mat dark(kFrame, CV_8UC1, cv::Scalar(1));
-  EXPECT_STREQ(frame_problem(measure_frame(dark)), "dark");
+  EXPECT_EQ(frame_problem(measure_frame(dark)), Method::dark);
   cv::Mat saturated(kFrame, CV_8UC1, cv::Scalar(255));
-  EXPECT_STREQ(frame_problem(measure_frame(saturated)), "saturated");
+  EXPECT_EQ(frame_problem(measure_frame(saturated)), Method::saturated);
   cv::Mat uniform(kFrame, CV_8UC1, cv::Scalar(120));
-  EXPECT_STREQ(frame_problem(measure_frame(uniform)), "no-texture");
+  EXPECT_EQ(frame_problem(measure_frame(uniform)), Method::no_texture);
   test::Sensor sensor;
   const cv::Mat good = test::render_frame(texture(), kFrame, 0, 0, 0, 0, 0, 0, test::continuous(0), sensor, 5);
-  EXPECT_EQ(frame_problem(measure_frame(good)), nullptr);
+  EXPECT_EQ(frame_problem(measure_frame(good)), std::nullopt);
   sensor.mean_grey = 10.0;
   sensor.contrast_grey = 3.0;
   const cv::Mat under = test::render_frame(texture(), kFrame, 0, 0, 0, 0, 0, 0, test::continuous(0), sensor, 5);
-  EXPECT_EQ(frame_problem(measure_frame(under)), nullptr);
+  EXPECT_EQ(frame_problem(measure_frame(under)), std::nullopt);
 }
 
 }  // namespace

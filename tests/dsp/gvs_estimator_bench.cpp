@@ -93,7 +93,7 @@ void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* me
     f.index += lap * static_cast<std::int64_t>(frames.size());
     const dsp::VelocityEstimate e = est->estimate(f);
     benchmark::DoNotOptimize(e);
-    last_method = e.method;
+    last_method = dsp::method_word(e.method);
     with_speed += e.has_speed ? 1 : 0;
     ++n;
   }

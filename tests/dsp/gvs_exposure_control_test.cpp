@@ -8,7 +8,7 @@
 namespace gvs::dsp {
 namespace {
 
-VelocityEstimate moving(double speed_mps, const char* method = "blur-cont") {
+VelocityEstimate moving(double speed_mps, Method method = Method::blur_cont) {
   VelocityEstimate e;
   e.has_speed = true;
   e.has_direction = true;
@@ -52,7 +52,7 @@ TEST(ExposureControl, AdaptiveAimsAtTheTargetStreakAndHoldsInsideTheBand) {
   EXPECT_EQ(slow.exposure_us, lim.max_exposure_us);
 }
 
-VelocityEstimate direction_only(const char* method, double quality = 0.9) {
+VelocityEstimate direction_only(Method method, double quality = 0.9) {
   VelocityEstimate e;
   e.has_direction = true;
   e.quality = quality;
@@ -68,11 +68,11 @@ ExposurePlan continuous_us(double t_us) {
 
 TEST(ExposureControl, AdaptiveShortensWhenTheStreakIsTooLongToMeasure) {
   const ExposurePlan current;  // 3000 us
-  const ExposurePlan next = next_exposure(direction_only("streak-cont"), current, ExposureMode::adaptive, {});
+  const ExposurePlan next = next_exposure(direction_only(Method::streak_cont), current, ExposureMode::adaptive, {});
   EXPECT_DOUBLE_EQ(next.exposure_us, 750.0);  // 3000 / 4
   // A short streak without speed at the longest exposure (a slow car: the
   // frame pairs measure it) does not shorten.
-  EXPECT_EQ(next_exposure(direction_only("blur-cont"), current, ExposureMode::adaptive, {}).exposure_us, 3000.0);
+  EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), current, ExposureMode::adaptive, {}).exposure_us, 3000.0);
 }
 
 // Dark single-strobe frames: below the texture SNR a streak length needs,
@@ -84,7 +84,7 @@ TEST(ExposureControl, AdaptiveInTheDarkTakesTheLongestExposure) {
   dark.texture_snr = 2.0;
   EXPECT_EQ(next_exposure(dark, continuous_us(500.0), ExposureMode::adaptive, lim).exposure_us,
             lim.max_exposure_us);
-  VelocityEstimate dark_long = direction_only("streak-cont");
+  VelocityEstimate dark_long = direction_only(Method::streak_cont);
   dark_long.texture_snr = 1.0;
   EXPECT_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
             lim.max_exposure_us);
@@ -101,7 +101,7 @@ TEST(ExposureControl, AdaptiveInTheDarkTakesTheLongestExposure) {
 
 TEST(ExposureControl, AdaptiveLengthensWhenTheStreakIsTooShortForADirection) {
   const ExposureLimits lim;
-  const VelocityEstimate short_streak = no_estimate(0, 0, "short-streak");
+  const VelocityEstimate short_streak = no_estimate(0, 0, Method::short_streak);
   // x4 per frame from the measured frame's light time, up to the longest exposure.
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(5.0), ExposureMode::adaptive, lim).exposure_us, 20.0);
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(1000.0), ExposureMode::adaptive, lim).exposure_us,
@@ -114,7 +114,7 @@ TEST(ExposureControl, AdaptiveLengthensWhenTheStreakIsTooShortForADirection) {
 TEST(ExposureControl, AdaptiveHoldsOnOneTooLongStreakWhileTrackingASpeed) {
   // A streak in the band (70 px at 31.8 m/s and 220 us) read once as "too
   // long" while the last frames measured the speed: a miss, not a change.
-  VelocityEstimate miss = direction_only("streak-cont");
+  VelocityEstimate miss = direction_only(Method::streak_cont);
   miss.tracking = true;
   EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 220.0);
   miss.tracking = false;
@@ -131,7 +131,7 @@ TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
   std::vector<double> visited;
   for (int i = 0; i < 12; ++i) {
     // Even a low-quality direction (forward prior only) moves the sweep on.
-    plan = next_exposure(direction_only("blur-fwd", 0.1), plan, ExposureMode::adaptive, lim);
+    plan = next_exposure(direction_only(Method::blur_fwd, 0.1), plan, ExposureMode::adaptive, lim);
     visited.push_back(plan.exposure_us);
   }
   const std::vector<double> expected{375.0, 187.5, 93.75, 46.875, 23.4375, 11.71875, 5.859375,
@@ -139,19 +139,19 @@ TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
   EXPECT_EQ(visited, expected);
   // A frame with texture but no match at all (streak too short to show a
   // direction) continues the sweep too; a dark frame does not.
-  EXPECT_EQ(next_exposure(no_estimate(0, 0, "no-match"), continuous_us(100.0), ExposureMode::adaptive, lim)
+  EXPECT_EQ(next_exposure(no_estimate(0, 0, Method::no_match), continuous_us(100.0), ExposureMode::adaptive, lim)
                 .exposure_us,
             50.0);
-  EXPECT_EQ(next_exposure(no_estimate(0, 0, "dark"), continuous_us(100.0), ExposureMode::adaptive, lim)
+  EXPECT_EQ(next_exposure(no_estimate(0, 0, Method::dark), continuous_us(100.0), ExposureMode::adaptive, lim)
                 .exposure_us,
             100.0);
   // A miss while the estimator still tracks a recent speed holds the plan
   // (the next frame is searched around that speed).
-  VelocityEstimate warm_miss = direction_only("blur-cont");
+  VelocityEstimate warm_miss = direction_only(Method::blur_cont);
   warm_miss.tracking = true;
   EXPECT_EQ(next_exposure(warm_miss, continuous_us(300.0), ExposureMode::adaptive, lim).exposure_us, 300.0);
   // From the longest exposure, a too-long streak enters the sweep again.
-  EXPECT_EQ(next_exposure(direction_only("streak-cont"), continuous_us(3000.0), ExposureMode::adaptive, lim)
+  EXPECT_EQ(next_exposure(direction_only(Method::streak_cont), continuous_us(3000.0), ExposureMode::adaptive, lim)
                 .exposure_us,
             750.0);
 }
@@ -162,17 +162,17 @@ TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
 TEST(ExposureControl, FramesInFlightDoNotStepTwice) {
   const ExposureLimits lim;
   const ExposurePlan frame = continuous_us(750.0);
-  const ExposurePlan current = next_exposure(direction_only("blur-cont"), frame, frame, ExposureMode::adaptive, lim);
+  const ExposurePlan current = next_exposure(direction_only(Method::blur_cont), frame, frame, ExposureMode::adaptive, lim);
   ASSERT_EQ(current.exposure_us, 375.0);
   // The next frame was still taken at 750 us.
-  EXPECT_EQ(next_exposure(direction_only("blur-cont"), frame, current, ExposureMode::adaptive, lim).exposure_us,
+  EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), frame, current, ExposureMode::adaptive, lim).exposure_us,
             375.0);
-  EXPECT_EQ(next_exposure(direction_only("streak-cont"), continuous_us(3000.0), continuous_us(750.0),
+  EXPECT_EQ(next_exposure(direction_only(Method::streak_cont), continuous_us(3000.0), continuous_us(750.0),
                           ExposureMode::adaptive, lim)
                 .exposure_us,
             750.0);
   // At the bottom, a frame still at the shortest octave repeats the restart.
-  EXPECT_EQ(next_exposure(direction_only("blur-cont"), continuous_us(2.9296875), continuous_us(3000.0),
+  EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), continuous_us(2.9296875), continuous_us(3000.0),
                           ExposureMode::adaptive, lim)
                 .exposure_us,
             3000.0);
@@ -184,7 +184,7 @@ TEST(ExposureControl, LowQualityAndNothingMeasuredKeepThePlan) {
   VelocityEstimate weak = moving(20.0);
   weak.quality = 0.1;
   EXPECT_EQ(next_exposure(weak, current, ExposureMode::adaptive, {}).exposure_us, 500.0);
-  EXPECT_EQ(next_exposure(no_estimate(0, 0, "dark"), current, ExposureMode::adaptive, {}).exposure_us, 500.0);
+  EXPECT_EQ(next_exposure(no_estimate(0, 0, Method::dark), current, ExposureMode::adaptive, {}).exposure_us, 500.0);
 }
 
 TEST(ExposureControl, DoublePulseSeparationGivesTheTargetDisplacement) {
@@ -220,7 +220,7 @@ TEST(ExposureControl, DarkDoublePulseFramesGetLongerPulses) {
   ASSERT_EQ(bright.pulse_count, 2u);
   ASSERT_NEAR(streak_px(40.0, bright.pulses[0].duration_us), lim.max_pulse_blur_px, 1e-9);
 
-  VelocityEstimate dark = moving(40.0, "dpiv-cont");
+  VelocityEstimate dark = moving(40.0, Method::dpiv_cont);
   dark.texture_snr = 2.5;  // 3 wanted: 2.4 px, within [0.5, 1.5] x 2 px: held
   EXPECT_EQ(next_exposure(dark, bright, bright, ExposureMode::double_pulse, lim).pulses[0].duration_us,
             bright.pulses[0].duration_us);
@@ -267,13 +267,13 @@ TEST(ExposureControl, DoublePulseDisplacementFitsASmallFrame) {
 // 30 m/s guess (no lock-up on a separation that never gives a speed).
 TEST(ExposureControl, DoublePulseWithoutSpeedShrinksThenRestarts) {
   const ExposureLimits lim;
-  const ExposurePlan guess = next_exposure(direction_only("streak-cont"), ExposurePlan{}, ExposureMode::double_pulse, lim);
+  const ExposurePlan guess = next_exposure(direction_only(Method::streak_cont), ExposurePlan{}, ExposureMode::double_pulse, lim);
   ASSERT_EQ(guess.pulse_count, 2u);
   EXPECT_NEAR(streak_px(30.0, separation_us(guess)), lim.target_shift_px, 0.5);
   ExposurePlan plan = guess;
   bool restarted = false;
   for (int i = 0; i < 10 && !restarted; ++i) {
-    const ExposurePlan next = next_exposure(no_estimate(0, 0, "no-match"), plan, ExposureMode::double_pulse, lim);
+    const ExposurePlan next = next_exposure(no_estimate(0, 0, Method::no_match), plan, ExposureMode::double_pulse, lim);
     ASSERT_EQ(next.pulse_count, 2u);
     if (separation_us(next) > separation_us(plan)) {
       restarted = true;
@@ -297,7 +297,7 @@ TEST(ExposureControl, UnequalSecondPulseEnergy) {
 TEST(ExposureControl, StandstillReturnsToTheLongExposure) {
   ExposurePlan current;
   current.exposure_us = 100.0;
-  VelocityEstimate still = moving(0.0, "still");
+  VelocityEstimate still = moving(0.0, Method::still);
   still.has_direction = false;
   EXPECT_EQ(next_exposure(still, current, ExposureMode::adaptive, {}).exposure_us, 3000.0);
 }

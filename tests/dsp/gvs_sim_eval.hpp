@@ -87,13 +87,13 @@ inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, d
     if (t0 < 0) t0 = f.record.t_ns;
     if (static_cast<double>(f.record.t_ns - t0) * 1e-9 < skip_s) continue;
     ++score.frames;
-    ++score.methods[e.method];
+    ++score.methods[dsp::method_word(e.method)];
     const drivers::TruthRecord& t = f.truth;
     if (verbose) {
       std::printf("%5lld truth %7.3f m/s %8.3f deg yaw %7.2f | est %s%7.3f %s%8.3f yaw %s%7.2f q %.2f %s exp %.1f/%zu snr %.1f\n",
                   static_cast<long long>(f.record.index), t.speed_mps, t.direction_deg.value_or(0.0),
                   t.yaw_rate_dps, e.has_speed ? " " : "-", e.speed_mps, e.has_direction ? " " : "-",
-                  e.direction_deg, e.has_yaw_rate ? " " : "-", e.yaw_rate_dps, e.quality, e.method,
+                  e.direction_deg, e.has_yaw_rate ? " " : "-", e.yaw_rate_dps, e.quality, dsp::method_word(e.method),
                   f.record.exposure.exposure_us, f.record.exposure.pulse_count, e.texture_snr);
     }
     if (e.has_yaw_rate) {

@@ -156,7 +156,7 @@ TEST(Standstill, FramesSmearedAlikeOnPhotographedAsphaltAreNoStandstill) {
       const cv::Mat gray = test::sensor_frame(view, camera_sensor(), 10 + static_cast<std::uint64_t>(i));
       if (i == 0) print_texture("streak 369 px, " + name, gray);
       const VelocityEstimate e = est->estimate(frame_of(gray, i));
-      EXPECT_STRNE(e.method, "still") << name << " frame " << i;
+      EXPECT_NE(e.method, Method::still) << name << " frame " << i;
       EXPECT_FALSE(e.has_speed && e.speed_mps < 1.0) << name << " frame " << i << " " << e.method;
     }
   }
@@ -174,7 +174,7 @@ TEST(Standstill, ADiagonalStreakOnAFineGrainIsNoStandstill) {
     const cv::Mat gray = test::sensor_frame(view, camera_sensor(), 30 + static_cast<std::uint64_t>(i));
     if (i == 0) print_texture("diagonal streak 80 px, torcs_etrack2", gray);
     const VelocityEstimate e = est->estimate(frame_of(gray, i));
-    EXPECT_STRNE(e.method, "still") << "frame " << i;
+    EXPECT_NE(e.method, Method::still) << "frame " << i;
   }
 }
 
@@ -189,7 +189,7 @@ TEST(Standstill, SharpPhotographedAsphaltThatDoesNotMoveIsAStandstill) {
       if (i == 0) print_texture("sharp, " + name, gray);
       const VelocityEstimate e = est->estimate(frame_of(gray, i));
       if (i == 0) continue;
-      EXPECT_STREQ(e.method, "still") << name << " frame " << i;
+      EXPECT_EQ(e.method, Method::still) << name << " frame " << i;
       EXPECT_TRUE(e.has_speed && e.speed_mps < 0.01) << name << " frame " << i;
     }
   }

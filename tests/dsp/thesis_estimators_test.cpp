@@ -30,12 +30,12 @@ TEST(ThesisEstimators, AreRegisteredByName) {
 TEST(ThesisEstimators, BadFramesGiveAReasonAndQualityZero) {
   struct Bad {
     cv::Mat gray;
-    const char* reason;
+    Method reason;
   };
-  const Bad bad[] = {{cv::Mat(), "empty-frame"},
-                     {cv::Mat(384, 512, CV_8UC3, cv::Scalar::all(100)), "bad-format"},
-                     {cv::Mat(383, 512, CV_8UC1, cv::Scalar(100)), "wrong-size"},
-                     {cv::Mat(384, 640, CV_8UC1, cv::Scalar(100)), "wrong-size"}};
+  const Bad bad[] = {{cv::Mat(), Method::empty_frame},
+                     {cv::Mat(384, 512, CV_8UC3, cv::Scalar::all(100)), Method::bad_format},
+                     {cv::Mat(383, 512, CV_8UC1, cv::Scalar(100)), Method::wrong_size},
+                     {cv::Mat(384, 640, CV_8UC1, cv::Scalar(100)), Method::wrong_size}};
   for (const char* n : kNames) {
     const auto est = make(n);
     for (const Bad& b : bad) {
@@ -45,7 +45,7 @@ TEST(ThesisEstimators, BadFramesGiveAReasonAndQualityZero) {
       f.t_ns = 1000;
       VelocityEstimate e;
       EXPECT_NO_THROW(e = est->estimate(f)) << n;
-      EXPECT_STREQ(e.method, b.reason) << n;
+      EXPECT_EQ(e.method, b.reason) << n;
       EXPECT_EQ(e.quality, 0.0) << n;
       EXPECT_EQ(e.index, 7) << n;
       EXPECT_FALSE(e.has_speed || e.has_direction) << n;
@@ -75,12 +75,12 @@ TEST(ThesisEstimators, FirstFrameOfPairMethodsHasNoPairEstimate) {
   FrameView f;
   f.gray = frame;
   const VelocityEstimate e = orb->estimate(f);
-  EXPECT_STREQ(e.method, "no-previous");
+  EXPECT_EQ(e.method, Method::no_previous);
   EXPECT_EQ(e.quality, 0.0);
   // After reset() the next frame is a first frame again.
   orb->estimate(f);
   orb->reset();
-  EXPECT_STREQ(orb->estimate(f).method, "no-previous");
+  EXPECT_EQ(orb->estimate(f).method, Method::no_previous);
 }
 
 TEST(ThesisEstimators, SameTimeTwiceIsBadTime) {
@@ -90,7 +90,7 @@ TEST(ThesisEstimators, SameTimeTwiceIsBadTime) {
   f.gray = frame;
   orb->estimate(f);
   const VelocityEstimate e = orb->estimate(f);
-  EXPECT_STREQ(e.method, "bad-time");
+  EXPECT_EQ(e.method, Method::bad_time);
   EXPECT_EQ(e.quality, 0.0);
 }
 

@@ -65,7 +65,7 @@ TEST(ThesisFft, EstimatorAddsMountYawAndReportsAnAxis) {
     f.index = 4;
     f.t_ns = 1'000'000'000;
     const VelocityEstimate e = est->estimate(f);
-    ASSERT_STREQ(e.method, "thesis-fft");
+    ASSERT_EQ(e.method, Method::thesis_fft);
     EXPECT_TRUE(e.has_direction);
     EXPECT_FALSE(e.has_speed);
     EXPECT_FALSE(e.has_velocity_xy());
@@ -88,7 +88,7 @@ TEST(ThesisFft, FlatFrameIsNoTexture) {
   FrameView f;
   f.gray = cv::Mat(kH, kW, CV_8UC1, cv::Scalar(90));
   const VelocityEstimate e = est->estimate(f);
-  EXPECT_STREQ(e.method, "no-texture");
+  EXPECT_EQ(e.method, Method::no_texture);
   EXPECT_EQ(e.quality, 0.0);
   EXPECT_FALSE(e.has_direction);
 }

@@ -97,7 +97,7 @@ TEST(ThesisFrames, GvsReadsEveryFrameStraightAheadWithinOneDegree) {
     frame.gray = g;
     frame.exposure.exposure_us = 3000.0;
     const VelocityEstimate e = gvs.estimate(frame);
-    std::printf("%-16s gvs direction %7.3f deg, quality %.2f, %s\n", n, e.direction_deg, e.quality, e.method);
+    std::printf("%-16s gvs direction %7.3f deg, quality %.2f, %s\n", n, e.direction_deg, e.quality, method_word(e.method));
     ASSERT_TRUE(e.has_direction) << n << ": " << e.method;
     // One frame cannot tell forwards from backwards: 0 or 180 deg.
     const double off_axis_deg = std::abs(std::remainder(e.direction_deg, 180.0));

@@ -84,11 +84,11 @@ TEST(ThesisOrb, EstimatorRecoversVelocityWithMountYaw) {
       const cv::Mat f0 = test::shifted_crop(texture(), 0.0, 0.0, kW, kH);
       const cv::Mat f1 = test::shifted_crop(texture(), shift.x, shift.y, kW, kH);
       const VelocityEstimate e0 = est->estimate(view(f0, 0, 0));
-      EXPECT_STREQ(e0.method, "no-previous");
+      EXPECT_EQ(e0.method, Method::no_previous);
       EXPECT_EQ(e0.quality, 0.0);
       EXPECT_FALSE(e0.has_speed);
       const VelocityEstimate e1 = est->estimate(view(f1, 1, kFrameNs));
-      ASSERT_STREQ(e1.method, "thesis-orb");
+      ASSERT_EQ(e1.method, Method::thesis_orb);
       ASSERT_TRUE(e1.has_speed && e1.has_direction);
       std::printf("yaw %5.1f  v (%.2f, %.2f) -> (%.3f, %.3f) m/s, dir %.2f vs %.2f deg\n", mount_yaw_deg, v.x, v.y,
                   e1.vx_mps, e1.vy_mps, e1.direction_deg, direction_deg(v));
@@ -137,7 +137,7 @@ TEST(ThesisOrb, FlatFrameGivesNoMatch) {
   const cv::Mat flat(kH, kW, CV_8UC1, cv::Scalar(100));
   est->estimate(view(flat, 0, 0));
   const VelocityEstimate e = est->estimate(view(flat, 1, kFrameNs));
-  EXPECT_STREQ(e.method, "no-match");
+  EXPECT_EQ(e.method, Method::no_match);
   EXPECT_EQ(e.quality, 0.0);
   EXPECT_FALSE(e.has_speed);
 }

@@ -111,14 +111,14 @@ TEST(ThesisSim, CombinedSwitchesDirectionSourceAt15Kmh) {
   int fast_fft = 0;
   for (const Row& r : rows) {
     const double kmh = mps_to_kmh(r.truth.speed_mps);
-    const std::string m = r.est.method;
+    const Method m = r.est.method;
     if (kmh > 4.0 && kmh < 6.0) {
       ++slow;
-      if (m == "thesis-lap-orb") ++slow_orb;
+      if (m == Method::thesis_lap_orb) ++slow_orb;
     }
     if (kmh > 35.0 && kmh < 45.0) {
       ++fast;
-      if (m == "thesis-lap-fft") ++fast_fft;
+      if (m == Method::thesis_lap_fft) ++fast_fft;
     }
   }
   std::printf("thesis: at 5 km/h %d/%d frames took direction from ORB; at 40 km/h %d/%d from the FFT\n", slow_orb,

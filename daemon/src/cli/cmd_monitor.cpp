@@ -31,6 +31,7 @@
 #include "gvs/can/candump.hpp"
 #include "gvs/can/codec.hpp"
 #include "gvs/can/monitor.hpp"
+#include "gvs/daemon/bus_estimate.hpp"
 
 namespace gvs::cli {
 
@@ -69,7 +70,7 @@ bool is_regular_file(const std::string& path) {
 void monitor_file(const MonitorCliOptions& o) {
   std::ifstream in(o.target);
   if (!in) throw std::runtime_error("cannot read candump log '" + o.target + "': " + std::strerror(errno));
-  can::MonitorState mon(can::MessageIds{o.base_id});
+  can::MonitorState mon(can::MessageIds{o.base_id}, daemon::method_word_of_code);
   std::string line;
   std::int64_t next_refresh = 0;
   const std::int64_t start = realtime_ns();
@@ -121,7 +122,7 @@ void monitor_bus(const MonitorCliOptions& o) {
     throw std::runtime_error("cannot listen on CAN interface '" + o.target + "': " + std::strerror(err) +
                              "; check the name (ip link show) or give a candump log file");
   }
-  can::MonitorState mon(can::MessageIds{o.base_id});
+  can::MonitorState mon(can::MessageIds{o.base_id}, daemon::method_word_of_code);
   const std::int64_t start = realtime_ns();
   std::int64_t next_refresh = 0;
   while (!g_stop) {

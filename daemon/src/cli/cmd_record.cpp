@@ -158,7 +158,7 @@ void run_record(const RecordOptions& o) {
         ++errors;
         continue;
       }
-      if (live.slot.defect != nullptr) {  // no pixels or no trustworthy exposure: a gap, not a guess
+      if (live.slot.defect) {  // no pixels or no trustworthy exposure: a gap, not a guess
         ++defects;
         continue;
       }

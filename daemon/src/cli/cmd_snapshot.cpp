@@ -90,11 +90,12 @@ void draw_snapshot(const cv::Mat& gray, const dsp::VelocityEstimate& e, std::int
   right.copyTo(canvas(cv::Rect(gray.cols, 0, gray.cols, gray.rows)));
   const std::string line1 =
       e.quality > 0.0
-          ? fmt::format("frame {}  {}  speed {}  direction {}  yaw {}  quality {:.2f}", index, e.method,
+          ? fmt::format("frame {}  {}  speed {}  direction {}  yaw {}  quality {:.2f}", index,
+                        dsp::method_word(e.method),
                         e.has_speed ? fmt::format("{:.2f} m/s", e.speed_mps) : std::string("-"),
                         e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
                         e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality)
-          : fmt::format("frame {}  no estimate: {}", index, e.method);
+          : fmt::format("frame {}  no estimate: {}", index, dsp::method_word(e.method));
   const std::string line2 = fmt::format(
       "exposure {:.1f} us, {} pulse(s)   mean grey {:.0f}  contrast {:.1f}  saturated {:.1f} %   "
       "green: ground motion, orange: blur axis   right: spectrum",
@@ -150,7 +151,7 @@ void snapshot_live(const SnapshotOptions& o) {
   while (frames < 6) {
     const daemon::SourceStatus st = live.source->next(live.slot, stop_requested());
     if (st == daemon::SourceStatus::stopped || st == daemon::SourceStatus::end) break;
-    if (st == daemon::SourceStatus::error || live.slot.defect != nullptr) {
+    if (st == daemon::SourceStatus::error || live.slot.defect) {
       if (++errors > 100) break;
       continue;
     }

@@ -4,6 +4,14 @@
 
 namespace gvs::daemon {
 
+namespace {
+
+std::int64_t light_centre_ns(const dsp::FrameView& frame) noexcept {
+  return frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
+}
+
+}  // namespace
+
 FrameProcessor::FrameProcessor(const FrameProcessorConfig& config)
     : config_(config), estimator_(dsp::make_estimator(config.estimator)) {}
 
@@ -12,38 +20,31 @@ void FrameProcessor::reset() noexcept {
   have_previous_ = false;
 }
 
-dsp::VelocityEstimate FrameProcessor::reject(const dsp::FrameView& frame, const char* reason) noexcept {
-  ++rejects_.unreadable;
-  const std::int64_t mid_t_ns =
-      frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
-  return dsp::no_estimate(frame.index, mid_t_ns, reason);
+dsp::VelocityEstimate FrameProcessor::reject(const dsp::FrameView& frame, RejectReason reason) noexcept {
+  ++rejects_.by_reason[static_cast<std::size_t>(reason)];
+  return dsp::no_estimate(frame.index, light_centre_ns(frame), reject_method(reason));
 }
 
 dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) noexcept {
   const dsp::CameraGeometry& cam = config_.estimator.camera;
-  const std::int64_t mid_t_ns =
-      frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
   if (frame.gray.empty() || frame.gray.type() != CV_8UC1 || frame.gray.cols != cam.width_px ||
       frame.gray.rows != cam.height_px) {
-    ++rejects_.wrong_size;
-    return dsp::no_estimate(frame.index, mid_t_ns, "wrong-size");
+    return reject(frame, RejectReason::wrong_size);
   }
   const double exposure_us = frame.exposure.exposure_us;
   const double lit_us = frame.exposure.lit_time_us();
   if (!(exposure_us > 0.0) || !(lit_us > 0.0) || exposure_us > config_.max_exposure_us ||
       !std::isfinite(exposure_us)) {
-    ++rejects_.bad_exposure;
-    return dsp::no_estimate(frame.index, mid_t_ns, "bad-exposure");
+    return reject(frame, RejectReason::bad_exposure);
   }
   if (have_previous_) {
     if (frame.t_ns <= previous_t_ns_) {
       // Time went backwards: the pair history is meaningless. Start again
       // from this frame, but do not measure it against the old one.
-      ++rejects_.time_backwards;
       estimator_->reset();
       previous_t_ns_ = frame.t_ns;
       (void)estimator_->estimate(frame);
-      return dsp::no_estimate(frame.index, mid_t_ns, "time-backwards");
+      return reject(frame, RejectReason::time_backwards);
     }
     if (static_cast<double>(frame.t_ns - previous_t_ns_) * 1e-9 > config_.max_gap_s) {
       ++rejects_.time_gap;

@@ -43,7 +43,7 @@ void Pipeline::capture_loop() noexcept {
     const bool overrun = slot == nullptr;
     if (overrun) slot = &spare_;
 
-    slot->defect = nullptr;  // a source sets it only for a frame it could not deliver
+    slot->defect.reset();  // a source sets it only for a frame it could not deliver
     const SourceStatus status = source_->next(*slot, stop_);
     if (status == SourceStatus::stopped) break;
     if (status == SourceStatus::end) {
@@ -105,8 +105,8 @@ void Pipeline::stamp_light(FrameSlot& slot) noexcept {
   const std::span<const drivers::LitInterval> history(lit_.data(), lit_count_);
   if (drivers::light_in_exposure(history, slot.view.t_ns, slot.view.exposure.exposure_us, lit)) {
     slot.view.exposure = lit;
-  } else if (slot.defect == nullptr) {
-    slot.defect = "no-light-in-exposure";
+  } else if (!slot.defect) {
+    slot.defect = RejectReason::no_light_in_exposure;
   }
 }
 

@@ -17,11 +17,11 @@ class DspEstimator final : public FrameEstimator {
  public:
   explicit DspEstimator(const FrameProcessorConfig& config) : processor_(config) {}
   dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
-    if (slot.defect != nullptr) return processor_.reject(slot.view, slot.defect);
+    if (slot.defect) return processor_.reject(slot.view, *slot.defect);
     return processor_.process(slot.view);
   }
   void reset() noexcept override { processor_.reset(); }
-  [[nodiscard]] std::uint64_t rejected_frames() const noexcept override { return processor_.rejects().total(); }
+  [[nodiscard]] RejectCounts rejected_frames() const noexcept override { return processor_.rejects().by_reason; }
   [[nodiscard]] std::string name() const override { return processor_.config().estimator.method; }
 
  private:
@@ -34,7 +34,7 @@ class TruthEstimator final : public FrameEstimator {
  public:
   dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
     const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
-    if (!slot.truth.known) return dsp::no_estimate(slot.view.index, mid_ns, "none");
+    if (!slot.truth.known) return dsp::no_estimate(slot.view.index, mid_ns, dsp::Method::none);
     dsp::VelocityEstimate e;
     e.index = slot.view.index;
     e.t_ns = mid_ns;
@@ -47,7 +47,7 @@ class TruthEstimator final : public FrameEstimator {
     e.direction_deg = slot.truth.direction_deg;
     e.yaw_rate_dps = slot.truth.yaw_rate_dps;
     e.quality = 1.0;
-    e.method = "truth";
+    e.method = dsp::Method::truth;
     return e;
   }
   void reset() noexcept override {}

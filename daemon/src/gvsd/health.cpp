@@ -10,11 +10,24 @@ std::string estimate_text(const PublishedEstimate& latest, std::int64_t now_ns) 
   if (latest.sequence == 0) return "no estimate yet";
   const dsp::VelocityEstimate& e = latest.estimate;
   const double age_ms = static_cast<double>(now_ns - e.t_ns) / 1e6;
-  if (!e.has_speed) return fmt::format("no speed ({}), age {:.0f} ms", e.method, age_ms);
+  if (!e.has_speed) return fmt::format("no speed ({}), age {:.0f} ms", dsp::method_word(e.method), age_ms);
   return fmt::format("{:.2f} m/s, direction {}, yaw {}, quality {:.2f}, {}{}, age {:.0f} ms", e.speed_mps,
                      e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
                      e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality,
-                     e.method, latest.plausible ? "" : ", implausible (held back)", age_ms);
+                     dsp::method_word(e.method), latest.plausible ? "" : ", implausible (held back)", age_ms);
+}
+
+/// The rejected frames per reason that occurred, e.g. " [unreadable 2 (+1), wrong-size 1 (+0)]".
+std::string reject_text(const HealthSnapshot& n, const HealthSnapshot& p) {
+  std::string out;
+  for (const RejectReasonInfo& r : kRejectReasons) {
+    const auto i = static_cast<std::size_t>(r.reason);
+    if (n.frames_rejected_by[i] == 0) continue;
+    out += fmt::format("{}{} {} (+{})", out.empty() ? " [" : ", ", reject_word(r.reason), n.frames_rejected_by[i],
+                       n.frames_rejected_by[i] - p.frames_rejected_by[i]);
+  }
+  if (!out.empty()) out += ']';
+  return out;
 }
 
 struct GroupInfo {
@@ -42,7 +55,8 @@ std::string group_text(const GroupInfo& g, const HealthSnapshot& n, const Health
     const double rate = interval_s > 0.0 ? static_cast<double>(d) / interval_s : 0.0;
     std::string item = fmt::format(fmt::runtime(f.text), fmt::arg("v", v), fmt::arg("rate", rate),
                                    fmt::arg("ms", static_cast<double>(v) / 1e6));
-    if (f.show == HealthShow::delta) item += fmt::format(" (+{})", d);
+    if (f.show == HealthShow::delta || f.show == HealthShow::delta_by_reason) item += fmt::format(" (+{})", d);
+    if (f.show == HealthShow::delta_by_reason) item += reject_text(n, p);
     items += (items.empty() ? "" : ", ") + item;
   }
   if (g.only_when_nonzero && !any_nonzero) return {};

@@ -153,14 +153,14 @@ void LibcameraSource::request_completed(const drivers::CompletedRequest& done) n
     h->t_ns = done.sensor_timestamp_ns;
     h->exposure_us = done.exposure_us;
     h->analogue_gain = static_cast<double>(done.analogue_gain);
-    h->defect = nullptr;
+    h->defect.reset();
     if (done.exposure_us <= 0) {
       bump(counters_.no_exposure_metadata);
-      h->defect = "no-exposure-metadata";  // never guess the exposure the speed is measured with
+      h->defect = RejectReason::no_exposure_metadata;  // never guess the exposure the speed is measured with
     }
     if (done.sensor_timestamp_ns <= last_t_ns_ || done.sensor_timestamp_ns < 0) {
       bump(counters_.timestamps_backwards);
-      h->defect = "time-backwards";
+      h->defect = RejectReason::time_backwards;
     } else {
       last_t_ns_ = done.sensor_timestamp_ns;
     }

@@ -29,8 +29,6 @@ std::vector<FrameSlot> make_slots(int count) { return std::vector<FrameSlot>(sta
 can::EncoderConfig encoder_config(const DaemonConfig& c) {
   can::EncoderConfig e;
   e.base_id = c.base_id;
-  e.stale_after_ms = static_cast<std::int64_t>(c.staleness_limit_ms);
-  e.min_quality = c.min_quality;
   return e;
 }
 

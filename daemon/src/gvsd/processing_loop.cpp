@@ -41,7 +41,13 @@ void Pipeline::processing_loop() noexcept {
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
     const std::int64_t t1 = mono_now_ns();
     if (!e.has_speed) bump(counters_.estimator_failures);
-    counters_.frames_rejected.store(estimator_->rejected_frames(), std::memory_order_relaxed);
+    const RejectCounts rejected = estimator_->rejected_frames();
+    std::uint64_t rejected_total = 0;
+    for (std::size_t i = 0; i < kRejectReasonCount; ++i) {
+      counters_.frames_rejected_by[i].store(rejected[i], std::memory_order_relaxed);
+      rejected_total += rejected[i];
+    }
+    counters_.frames_rejected.store(rejected_total, std::memory_order_relaxed);
     raise_max(counters_.processing_max_ns, t1 - t0);
 
     PublishedEstimate p;

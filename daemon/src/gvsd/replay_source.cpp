@@ -47,10 +47,10 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_l
     check_index(folder, records_, geometry_, preload_limit_mb);
     // A frame that cannot be decoded or has the wrong size is kept as a
     // defect: it is delivered in its turn with no pixels, gets no estimate
-    // (named "unreadable" / "wrong-size") and is counted, like a camera
+    // (named unreadable / wrong-size) and is counted, like a camera
     // frame that arrives broken; the frames around it play normally.
     frames_.reserve(records_.size());
-    defects_.assign(records_.size(), nullptr);
+    defects_.assign(records_.size(), std::nullopt);
     std::size_t good = 0;
     for (std::size_t i = 0; i < records_.size(); ++i) {
       cv::Mat gray;
@@ -58,16 +58,16 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_l
         gray = reader.load_gray(i);
       } catch (const drivers::DatasetError& e) {
         spdlog::warn("replay: frame {} gets no estimate: {}", records_[i].index, e.what());
-        defects_[i] = "unreadable";
+        defects_[i] = RejectReason::unreadable;
       }
-      if (defects_[i] == nullptr && (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px)) {
+      if (!defects_[i] && (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px)) {
         spdlog::warn("replay: frame {} gets no estimate: {} is {}x{} px but camera.json says {}x{}",
                      records_[i].index, records_[i].file, gray.cols, gray.rows, geometry_.width_px,
                      geometry_.height_px);
-        defects_[i] = "wrong-size";
+        defects_[i] = RejectReason::wrong_size;
         gray.release();
       }
-      if (defects_[i] == nullptr) ++good;
+      if (!defects_[i]) ++good;
       frames_.push_back(std::move(gray));
     }
     if (good == 0) throw std::runtime_error(folder.string() + ": no frame of the dataset could be read");
@@ -111,7 +111,7 @@ SourceStatus ReplaySource::next(FrameSlot& slot, const std::atomic<bool>& stop) 
   const auto exposure_ns = static_cast<std::int64_t>(rec.exposure.exposure_us * 1000.0);
   if (!sleep_until_or_stop(exposure_start_ns + exposure_ns, stop)) return SourceStatus::stopped;
   slot.defect = defects_[i];
-  if (slot.defect == nullptr) frames_[i].copyTo(slot.view.gray);  // same size and type: no allocation
+  if (!slot.defect) frames_[i].copyTo(slot.view.gray);  // same size and type: no allocation
   slot.view.index = rec.index;
   slot.view.t_ns = exposure_start_ns;
   slot.view.exposure = rec.exposure;

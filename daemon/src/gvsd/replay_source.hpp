@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -37,7 +38,7 @@ class ReplaySource final : public FrameSource {
   dsp::CameraGeometry geometry_;
   std::vector<drivers::FrameRecord> records_;
   std::vector<cv::Mat> frames_;
-  std::vector<const char*> defects_;  ///< per frame: nullptr, "unreadable" or "wrong-size"
+  std::vector<std::optional<RejectReason>> defects_;  ///< per frame: none, unreadable or wrong_size
   std::vector<FrameTruth> truth_;
   double fps_ = 0.0;
   std::size_t next_ = 0;

@@ -4,6 +4,7 @@
 // Stale or missing estimates go out with their Valid bits cleared.
 #include <array>
 
+#include "gvs/daemon/bus_estimate.hpp"
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
@@ -69,7 +70,7 @@ can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, const can:
   m.dropped_frames = low_byte(now.frames_dropped + now.frames_skipped);
   m.ring_overruns = low_byte(now.ring_overruns);
   m.can_send_errors = low_byte(now.send_errors);
-  m.method = can::method_code(latest.estimate.method);
+  m.method = bus_estimate(latest.estimate).method_code;
   status_last_ = now;
   return m;
 }
@@ -87,10 +88,6 @@ void Pipeline::sender_loop() noexcept {
     const std::int64_t woke_ns = mono_now_ns();
     bump(counters_.sender_heartbeat);
     const PublishedEstimate latest = latest_.read();
-    const dsp::VelocityEstimate* estimate = latest.sequence != 0 ? &latest.estimate : nullptr;
-    const can::ValidityRule rule{staleness_ms_.load(std::memory_order_relaxed),
-                                 min_quality_.load(std::memory_order_relaxed)};
-    const can::VelocityPair pair = can::velocity_from_estimate(estimate, woke_ns, rule, latest.plausible);
 
     if (stop_.load(std::memory_order_relaxed)) {  // tell the ECU we are going
       send_frame(encoder_.status(make_status(latest, can::VelocityPair{})));
@@ -104,8 +101,15 @@ void Pipeline::sender_loop() noexcept {
     if (late_ns > late_limit_ns_.load(std::memory_order_relaxed)) bump(counters_.late_wakeups);
     if (records_.wakeups < records_.wakeup_late_ns.size()) records_.wakeup_late_ns[records_.wakeups++] = late_ns;
 
-    send_frame(encoder_.velocity(pair.velocity));
-    send_frame(encoder_.velocity_xy(pair.xy));
+    const can::BusEstimate bus = bus_estimate(latest.estimate);
+    const can::ValidityRule rule{staleness_ms_.load(std::memory_order_relaxed),
+                                 min_quality_.load(std::memory_order_relaxed)};
+    can::CanFrame velocity_frame;
+    can::CanFrame xy_frame;
+    const can::VelocityPair pair = encoder_.estimate_frames(latest.sequence != 0 ? &bus : nullptr, woke_ns, rule,
+                                                            latest.plausible, velocity_frame, xy_frame);
+    send_frame(velocity_frame);
+    send_frame(xy_frame);
     if (!pair.velocity.valid) bump(counters_.invalid_sent);
 
     if (latest.sequence != last_sequence) {

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <string_view>
 
 namespace gvs::dsp {
 
@@ -45,18 +44,20 @@ ExposurePlan double_pulse_plan(double separation_us, double pulse_us, const Expo
 
 /// The estimator saw streaks too long to measure (direction only).
 bool streak_too_long(const VelocityEstimate& e) {
-  return e.has_direction && !e.has_speed && std::string_view(e.method).starts_with("streak");
+  const bool long_streak =
+      e.method == Method::streak_cont || e.method == Method::streak_energy || e.method == Method::streak_fwd;
+  return e.has_direction && !e.has_speed && long_streak;
 }
 
 /// The estimator saw a streak too short to carry even a direction.
-bool streak_too_short(const VelocityEstimate& e) { return std::string_view(e.method) == "short-streak"; }
+bool streak_too_short(const VelocityEstimate& e) { return e.method == Method::short_streak; }
 
 /// The frame had texture and (probably) motion, but no speed came out of it:
-/// a direction without speed, or no match at all ("no-match" is the
-/// estimator's word for texture without a measurable streak or pair shift;
-/// dark, saturated and textureless frames have their own words).
+/// a direction without speed, or no match at all (Method::no_match is the
+/// estimator's outcome for texture without a measurable streak or pair shift;
+/// dark, saturated and textureless frames have their own).
 bool moving_without_speed(const VelocityEstimate& e) {
-  return !e.has_speed && (e.has_direction || std::string_view(e.method) == "no-match");
+  return !e.has_speed && (e.has_direction || e.method == Method::no_match);
 }
 
 bool is_still(const VelocityEstimate& e) {

@@ -41,13 +41,13 @@ FrameStats measure_frame(const cv::Mat& gray) {
   return s;
 }
 
-const char* frame_problem(const FrameStats& stats, const FrameCheckLimits& limits) {
-  if (stats.saturated_fraction > limits.max_saturated_fraction) return "saturated";
-  if (stats.mean_grey < limits.dark_mean_grey) return "dark";
+std::optional<Method> frame_problem(const FrameStats& stats, const FrameCheckLimits& limits) {
+  if (stats.saturated_fraction > limits.max_saturated_fraction) return Method::saturated;
+  if (stats.mean_grey < limits.dark_mean_grey) return Method::dark;
   if (stats.contrast_grey < limits.min_contrast_grey) {
-    return stats.mean_grey < 4.0 * limits.dark_mean_grey ? "dark" : "no-texture";
+    return stats.mean_grey < 4.0 * limits.dark_mean_grey ? Method::dark : Method::no_texture;
   }
-  return nullptr;
+  return std::nullopt;
 }
 
 }  // namespace gvs::dsp

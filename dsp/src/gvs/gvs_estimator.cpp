@@ -118,14 +118,14 @@ VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
   single_frame_tried_ = false;
   if (frame.gray.empty() || frame.gray.type() != CV_8UC1 || frame.gray.size() != size_) {
     reset();
-    return no_estimate(frame.index, t_mid, "bad-frame");
+    return no_estimate(frame.index, t_mid, Method::bad_frame);
   }
   const FrameStats stats = measure_frame(frame.gray);
-  if (const char* problem = frame_problem(stats, set_.frame_check)) {
+  if (const std::optional<Method> problem = frame_problem(stats, set_.frame_check)) {
     prev_valid_ = false;
     prev_halves_valid_ = false;
     last_pair_valid_ = false;
-    VelocityEstimate e = no_estimate(frame.index, t_mid, problem);
+    VelocityEstimate e = no_estimate(frame.index, t_mid, *problem);
     last_ = e;
     last_valid_ = false;
     return e;
@@ -145,7 +145,7 @@ VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
     const bool consecutive = prev_valid_ && !prev_double_ && same_exposure && dt_s > 0.0 && dt_s < 0.06;
     double still_ratio = 1.0;
     if (consecutive && is_still(frame.gray, still_ratio)) {
-      e = no_estimate(frame.index, t_mid, "still");
+      e = no_estimate(frame.index, t_mid, Method::still);
       e.has_speed = true;
       e.has_yaw_rate = true;
       e.quality = std::clamp(1.0 - still_ratio / set_.still_ratio, 0.1, 1.0);
@@ -174,7 +174,7 @@ VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
   // Fast motion (single-frame mode, or a streak longer than the frame): each
   // frame shows new ground, so column means hold only the fixed pattern.
   const bool fast = e.quality > 0.0 && e.has_direction &&
-                    (e.method != std::string_view("pair") && e.method != std::string_view("still"));
+                    (e.method != Method::pair && e.method != Method::still);
   const bool slow = e.has_speed && e.speed_mps <= 2.0;
   if (fast && !slow) learn_column_pattern(frame.gray, stats.mean_grey);
   // The pixel pattern from every frame whose ground moved on by a few

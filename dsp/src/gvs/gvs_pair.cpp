@@ -40,7 +40,7 @@ void GvsEstimator::take_halves(const cv::Mat& gray, int slot, bool pattern_out) 
 
 VelocityEstimate GvsEstimator::estimate_pair(const FrameView& frame, std::int64_t t_mid_ns,
                                              double dt_s) {
-  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, "no-match");
+  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, Method::no_match);
   const int prev = 1 - cur_;
   // In the dark, both frames without the sensor's pixel pattern
   // (pair_pixel_pattern_min_frames; docs/estimator.md, "Dark frames",
@@ -124,7 +124,7 @@ VelocityEstimate GvsEstimator::estimate_pair(const FrameView& frame, std::int64_
   last_pair_v_ = v_pair;
   last_pair_valid_ = true;
 
-  e.method = "pair";
+  e.method = Method::pair;
   sign_known_now_ = true;
   e.quality = quality;
   set_velocity(e, v, true);

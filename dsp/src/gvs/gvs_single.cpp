@@ -15,7 +15,7 @@ Vec2 unit(Vec2 v) {
   return n > 0.0 ? Vec2{v.x / n, v.y / n} : Vec2{1.0, 0.0};
 }
 
-const char* method_name(const char* const names[3], int source) { return names[source]; }
+Method method_name(const Method names[3], int source) { return names[source]; }
 
 double sign_quality(int source) {
   constexpr double kQ[3] = {1.0, 0.7, 0.3};  // continuity, energy, forward prior
@@ -25,10 +25,10 @@ double sign_quality(int source) {
 }  // namespace
 
 VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int64_t t_mid_ns) {
-  static constexpr const char* kNames[3] = {"blur-cont", "blur-energy", "blur-fwd"};
+  static constexpr Method kNames[3] = {Method::blur_cont, Method::blur_energy, Method::blur_fwd};
   // Direction only, because the streak is longer than we can measure.
-  static constexpr const char* kLongNames[3] = {"streak-cont", "streak-energy", "streak-fwd"};
-  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, "no-match");
+  static constexpr Method kLongNames[3] = {Method::streak_cont, Method::streak_energy, Method::streak_fwd};
+  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, Method::no_match);
   single_frame_tried_ = true;
   StreakAxis axis;
   // A dark frame after a dark frame: straight to the spectrum without the
@@ -54,7 +54,7 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
     // pattern, an endless streak along the columns, may be what rules the
     // spectrum (on the first under-exposed frame of `const`, SNR 6, an 8 px
     // streak read 6 deg off).
-    e.method = "no-texture";
+    e.method = Method::no_texture;
     return e;
   }
   if (dark && pixel_frames_ >= set_.pixel_pattern_min_frames && !pixel_pattern_in_use_) {
@@ -69,13 +69,13 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
   last_axis_anisotropy_ = axis.anisotropy;
   e.texture_snr = axis.texture_snr;
   if (axis.texture_snr < set_.min_texture_snr) {
-    e.method = "no-texture";
+    e.method = Method::no_texture;
     return e;
   }
   if (axis.anisotropy < set_.min_anisotropy) {
     // Nearly isotropic: no blur, or a streak of a few pixels, whose axis is
     // the texture's own random anisotropy. No direction rather than a wrong one.
-    e.method = "short-streak";
+    e.method = Method::short_streak;
     return e;
   }
   const bool refine = axis.anisotropy >= set_.refine_min_anisotropy;
@@ -230,8 +230,8 @@ VelocityEstimate GvsEstimator::estimate_single(const FrameView& frame, std::int6
 }
 
 VelocityEstimate GvsEstimator::estimate_double(const FrameView& frame, std::int64_t t_mid_ns) {
-  static constexpr const char* kNames[3] = {"dpiv-cont", "dpiv-energy", "dpiv-fwd"};
-  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, "no-match");
+  static constexpr Method kNames[3] = {Method::dpiv_cont, Method::dpiv_energy, Method::dpiv_fwd};
+  VelocityEstimate e = no_estimate(frame.index, t_mid_ns, Method::no_match);
   last_pair_valid_ = false;
   // (No column pattern here: double_image() drops the spectrum rows it lives in.)
   full_spectrum_.compute(frame.gray, spec_full_);

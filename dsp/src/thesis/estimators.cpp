@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <optional>
 
 #include "gvs/dsp/geometry.hpp"
 #include "gvs/dsp/thesis.hpp"
@@ -15,12 +16,12 @@ std::int64_t light_centre_ns(const FrameView& f) {
   return f.t_ns + static_cast<std::int64_t>(std::llround(f.exposure.light_centre_us() * 1000.0));
 }
 
-/// Why this frame cannot be measured, or nullptr.
-const char* frame_problem(const FrameView& f, const CameraGeometry& cam) {
-  if (f.gray.empty()) return "empty-frame";
-  if (f.gray.type() != CV_8UC1) return "bad-format";
-  if (f.gray.cols != cam.width_px || f.gray.rows != cam.height_px) return "wrong-size";
-  return nullptr;
+/// Why this frame cannot be measured, or nothing.
+std::optional<Method> frame_problem(const FrameView& f, const CameraGeometry& cam) {
+  if (f.gray.empty()) return Method::empty_frame;
+  if (f.gray.type() != CV_8UC1) return Method::bad_format;
+  if (f.gray.cols != cam.width_px || f.gray.rows != cam.height_px) return Method::wrong_size;
+  return std::nullopt;
 }
 
 void set_velocity(VelocityEstimate& e, Vec2 v) {
@@ -43,29 +44,29 @@ class ThesisOrbEstimator final : public VelocityEstimator {
 
   VelocityEstimate estimate(const FrameView& frame) override {
     const std::int64_t t_ns = light_centre_ns(frame);
-    if (const char* why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, why);
+    if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       if (!orb_.has_previous()) {
         orb_.set_previous(frame.gray);
         prev_t_ns_ = t_ns;
-        return no_estimate(frame.index, t_ns, "no-previous");
+        return no_estimate(frame.index, t_ns, Method::no_previous);
       }
       const double dt_s = static_cast<double>(t_ns - prev_t_ns_) * 1e-9;
       prev_t_ns_ = t_ns;
       if (!(dt_s > 0.0)) {
         orb_.set_previous(frame.gray);
-        return no_estimate(frame.index, t_ns, "bad-time");
+        return no_estimate(frame.index, t_ns, Method::bad_time);
       }
       const thesis::OrbShift shift = orb_.measure_and_advance(frame.gray);
-      if (!shift.ok) return no_estimate(frame.index, t_ns, "no-match");
-      VelocityEstimate e = no_estimate(frame.index, t_ns, "thesis-orb");
+      if (!shift.ok) return no_estimate(frame.index, t_ns, Method::no_match);
+      VelocityEstimate e = no_estimate(frame.index, t_ns, Method::thesis_orb);
       // Texture displacement -> vehicle velocity, mount yaw included.
       set_velocity(e, image_shift_to_velocity(shift.d_row_px, shift.d_col_px, dt_s, camera_));
       e.quality = shift.quality;
       return e;
     } catch (const std::exception&) {
       orb_.reset();
-      return no_estimate(frame.index, t_ns, "error");
+      return no_estimate(frame.index, t_ns, Method::error);
     }
   }
   void reset() override { orb_.reset(); }
@@ -87,17 +88,17 @@ class ThesisFftEstimator final : public VelocityEstimator {
 
   VelocityEstimate estimate(const FrameView& frame) override {
     const std::int64_t t_ns = light_centre_ns(frame);
-    if (const char* why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, why);
+    if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       const thesis::FftAxis axis = fft_.measure(frame.gray);
-      if (!axis.ok) return no_estimate(frame.index, t_ns, "no-texture");
-      VelocityEstimate e = no_estimate(frame.index, t_ns, "thesis-fft");
+      if (!axis.ok) return no_estimate(frame.index, t_ns, Method::no_texture);
+      VelocityEstimate e = no_estimate(frame.index, t_ns, Method::thesis_fft);
       e.has_direction = true;
       e.direction_deg = wrap_axis_deg(axis.axis_cam_deg + camera_.mount_yaw_deg);
       e.quality = axis.quality;
       return e;
     } catch (const std::exception&) {
-      return no_estimate(frame.index, t_ns, "error");
+      return no_estimate(frame.index, t_ns, Method::error);
     }
   }
   void reset() override {}
@@ -116,19 +117,19 @@ class ThesisLaplacianEstimator final : public VelocityEstimator {
 
   VelocityEstimate estimate(const FrameView& frame) override {
     const std::int64_t t_ns = light_centre_ns(frame);
-    if (const char* why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, why);
+    if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       const auto model = thesis::fitted_laplacian_model();
-      if (model.empty()) return no_estimate(frame.index, t_ns, "no-model");
+      if (model.empty()) return no_estimate(frame.index, t_ns, Method::no_model);
       const thesis::LaplacianSpeed sp = thesis::invert_laplacian_model(lap_.lap_std(frame.gray), model);
-      if (!sp.ok) return no_estimate(frame.index, t_ns, "no-texture");
-      VelocityEstimate e = no_estimate(frame.index, t_ns, "thesis-laplacian");
+      if (!sp.ok) return no_estimate(frame.index, t_ns, Method::no_texture);
+      VelocityEstimate e = no_estimate(frame.index, t_ns, Method::thesis_laplacian);
       e.has_speed = true;
       e.speed_mps = sp.speed_mps;  // vx, vy stay 0: known only at standstill (has_velocity_xy)
       e.quality = sp.quality;
       return e;
     } catch (const std::exception&) {
-      return no_estimate(frame.index, t_ns, "error");
+      return no_estimate(frame.index, t_ns, Method::error);
     }
   }
   void reset() override {}
@@ -154,7 +155,7 @@ class ThesisEstimator final : public VelocityEstimator {
 
   VelocityEstimate estimate(const FrameView& frame) override {
     const std::int64_t t_ns = light_centre_ns(frame);
-    if (const char* why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, why);
+    if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       VelocityEstimate e = run(frame, t_ns);
       frame.gray.copyTo(previous_);
@@ -162,7 +163,7 @@ class ThesisEstimator final : public VelocityEstimator {
       return e;
     } catch (const std::exception&) {
       reset();
-      return no_estimate(frame.index, t_ns, "error");
+      return no_estimate(frame.index, t_ns, Method::error);
     }
   }
   void reset() override {
@@ -174,11 +175,11 @@ class ThesisEstimator final : public VelocityEstimator {
  private:
   VelocityEstimate run(const FrameView& frame, std::int64_t t_ns) {
     const auto model = thesis::fitted_laplacian_model();
-    if (model.empty()) return no_estimate(frame.index, t_ns, "no-model");
+    if (model.empty()) return no_estimate(frame.index, t_ns, Method::no_model);
     const thesis::LaplacianSpeed sp = thesis::invert_laplacian_model(lap_.lap_std(frame.gray), model);
-    if (!sp.ok) return no_estimate(frame.index, t_ns, "no-texture");
+    if (!sp.ok) return no_estimate(frame.index, t_ns, Method::no_texture);
 
-    VelocityEstimate e = no_estimate(frame.index, t_ns, "thesis-lap");
+    VelocityEstimate e = no_estimate(frame.index, t_ns, Method::thesis_lap);
     e.has_speed = true;
     e.speed_mps = sp.speed_mps;
     e.quality = sp.quality;
@@ -197,7 +198,7 @@ class ThesisEstimator final : public VelocityEstimator {
           dir_deg = direction_deg(image_shift_to_velocity(shift.d_row_px, shift.d_col_px, 1.0, camera_));
           dir_quality = shift.quality;
           have_direction = true;
-          e.method = "thesis-lap-orb";
+          e.method = Method::thesis_lap_orb;
         }
       } else {
         orb_.set_previous(frame.gray);
@@ -210,7 +211,7 @@ class ThesisEstimator final : public VelocityEstimator {
         dir_deg = wrap_axis_deg(axis.axis_cam_deg + camera_.mount_yaw_deg);  // forward assumed
         dir_quality = axis.quality;
         have_direction = true;
-        e.method = "thesis-lap-fft";
+        e.method = Method::thesis_lap_fft;
       }
     }
     if (have_direction) {

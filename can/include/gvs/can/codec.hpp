@@ -8,7 +8,6 @@
 
 #include "gvs/can/frame.hpp"
 #include "gvs/can/signals.hpp"
-#include "gvs/dsp/estimate.hpp"
 
 namespace gvs::can {
 
@@ -54,7 +53,7 @@ struct StatusMsg {
   std::uint8_t dropped_frames = 0;    ///< running count modulo 256
   std::uint8_t ring_overruns = 0;     ///< running count modulo 256
   std::uint8_t can_send_errors = 0;   ///< running count modulo 256
-  std::uint8_t method = 0;            ///< method_code() of the estimator
+  std::uint8_t method = 0;            ///< GVS_Method: the newest estimate's method code (BusEstimate::method_code)
 };
 
 struct TimingMsg {
@@ -84,6 +83,23 @@ CanFrame encode_velocity_xy(const VelocityXyMsg& m, const MessageIds& ids, std::
 CanFrame encode_status(const StatusMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
 CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
 
+/// The newest estimate as the bus sees it, filled by the daemon from the
+/// estimator's output. A quantity without its has_ flag is meaningless.
+struct BusEstimate {
+  std::int64_t t_ns = 0;  ///< the time the estimate describes, on the sender's clock
+  bool has_speed = false;
+  bool has_direction = false;
+  bool has_yaw_rate = false;
+  bool has_velocity_xy = false;  ///< vx, vy known (speed and direction, or standing still)
+  double speed_mps = 0.0;
+  double direction_deg = 0.0;  ///< ISO 8855: atan2(vy, vx)
+  double yaw_rate_dps = 0.0;
+  double vx_mps = 0.0;
+  double vy_mps = 0.0;
+  double quality = 0.0;         ///< [0, 1]
+  std::uint8_t method_code = 0; ///< GVS_Method (docs/can-interface.md, "Method codes")
+};
+
 /// When an estimate may go out as valid (docs/can-interface.md, "Validity").
 struct ValidityRule {
   std::int64_t stale_after_ms = 50;  ///< older (or from the future by more) -> every Valid bit 0
@@ -107,19 +123,17 @@ struct VelocityPair {
   VelocityXyMsg xy;
   bool fresh = false;  ///< an estimate within the stale limit (GVS_FaultEstimateStale = !fresh)
 };
-VelocityPair velocity_from_estimate(const dsp::VelocityEstimate* estimate, std::int64_t now_ns,
-                                    const ValidityRule& rule, bool plausible = true) noexcept;
+VelocityPair velocity_from_estimate(const BusEstimate* estimate, std::int64_t now_ns, const ValidityRule& rule,
+                                    bool plausible = true) noexcept;
 
 struct EncoderConfig {
   std::uint32_t base_id = kDefaultBaseId;
-  std::int64_t stale_after_ms = 50;  ///< older estimates are sent with Valid = 0 (gvsd: staleness_limit_ms)
-  double min_quality = 0.3;          ///< estimates of lower quality are sent with Valid = 0 (gvsd: [can] min_quality)
 };
 
 /// Keeps one alive counter per message; the CAN sender's only codec object.
 class Encoder {
  public:
-  /// Throws std::invalid_argument for a bad base ID, stale limit or minimum quality.
+  /// Throws std::invalid_argument for a bad base ID.
   explicit Encoder(const EncoderConfig& config);
 
   [[nodiscard]] const MessageIds& ids() const { return ids_; }
@@ -130,9 +144,11 @@ class Encoder {
   CanFrame status(const StatusMsg& m) noexcept;
   CanFrame timing(const TimingMsg& m) noexcept;
 
-  /// Both 20 ms frames for the newest estimate (nullptr = none yet).
-  void estimate_frames(const dsp::VelocityEstimate* estimate, std::int64_t now_ns, CanFrame& velocity_out,
-                       CanFrame& xy_out, bool plausible = true) noexcept;
+  /// Both 20 ms frames for the newest estimate (nullptr = none yet) under
+  /// `rule` (velocity_from_estimate); returns what they carry. gvsd's sender
+  /// packs its velocity messages with this call and nothing else.
+  VelocityPair estimate_frames(const BusEstimate* estimate, std::int64_t now_ns, const ValidityRule& rule,
+                               bool plausible, CanFrame& velocity_out, CanFrame& xy_out) noexcept;
 
  private:
   std::uint8_t next_counter(MessageKind kind) noexcept;

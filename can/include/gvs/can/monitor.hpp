@@ -47,9 +47,16 @@ struct BusErrorStats {
   std::uint64_t restarts = 0;
 };
 
+/// The word of a GVS_Method code, or nullptr for a code it does not know.
+/// The codes belong to the estimator's vocabulary, which the CAN library
+/// does not include: the program that shows the monitor passes its table.
+using MethodWordFn = const char* (*)(std::uint8_t code) noexcept;
+
 class MonitorState {
  public:
-  explicit MonitorState(MessageIds ids = {}) : ids_(ids) {}
+  /// Without `method_word`, GVS_Method is shown as its number only.
+  explicit MonitorState(MessageIds ids = {}, MethodWordFn method_word = nullptr)
+      : ids_(ids), method_word_(method_word) {}
 
   /// One frame received at `t_ns` (any clock, only differences matter).
   void feed(const CanFrame& frame, std::int64_t t_ns) noexcept;
@@ -78,6 +85,7 @@ class MonitorState {
 
  private:
   MessageIds ids_;
+  MethodWordFn method_word_ = nullptr;
   std::array<MessageStats, kMessageKindCount> stats_{};
   std::array<bool, kMessageKindCount> has_{};
   BusErrorStats bus_errors_;

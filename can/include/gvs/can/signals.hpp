@@ -127,21 +127,6 @@ constexpr const MessageSpec& message_spec(MessageKind kind) {
   return kMessages[static_cast<std::size_t>(kind)];
 }
 
-/// Codes of GVS_Method (the estimator, or why there is none). Names are the
-/// dsp method strings (VelocityEstimate::method); the DBC's VAL_ table for
-/// GVS_Method lists the same pairs (checked by the DBC test).
-struct MethodCode {
-  std::uint8_t code;
-  std::string_view name;
-};
-inline constexpr MethodCode kMethodCodes[] = {
-    {0, "none"}, {1, "dark"}, {2, "saturated"}, {3, "no-texture"}, {16, "thesis"}, {255, "other"},
-};
-/// The code of a method name; 255 ("other") for names not in the table.
-std::uint8_t method_code(std::string_view name) noexcept;
-/// The name of a code; "other" for codes not in the table.
-std::string_view method_name(std::uint8_t code) noexcept;
-
 /// Codes of GVS_State (VAL_ table in the DBC).
 enum class SensorState : std::uint8_t {
   Init = 0,      ///< starting: no estimate yet

@@ -23,8 +23,8 @@ class FrameEstimator {
   /// Real-time path: no throw, no allocation after the first frame.
   virtual dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept = 0;
   virtual void reset() noexcept = 0;
-  /// Bad input frames so far (FrameRejectCounters::total()).
-  [[nodiscard]] virtual std::uint64_t rejected_frames() const noexcept { return 0; }
+  /// Bad input frames so far, per reason (FrameRejectCounters::by_reason).
+  [[nodiscard]] virtual RejectCounts rejected_frames() const noexcept { return {}; }
   [[nodiscard]] virtual std::string name() const = 0;
 };
 

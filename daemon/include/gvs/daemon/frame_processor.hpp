@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "gvs/daemon/reject_reason.hpp"
 #include "gvs/dsp/estimate.hpp"
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/dsp/frame.hpp"
@@ -14,14 +15,16 @@ namespace gvs::daemon {
 
 /// Why frames got no estimate before reaching the estimator.
 struct FrameRejectCounters {
-  std::uint64_t wrong_size = 0;
-  std::uint64_t bad_exposure = 0;
-  std::uint64_t time_backwards = 0;
+  RejectCounts by_reason{};
   std::uint64_t time_gap = 0;  ///< gap long enough to forget history (not a reject)
-  std::uint64_t unreadable = 0;  ///< the source had no pixels for the frame
 
+  [[nodiscard]] std::uint64_t of(RejectReason r) const { return by_reason[static_cast<std::size_t>(r)]; }
   /// Frames that got no estimate because of their input.
-  [[nodiscard]] std::uint64_t total() const { return wrong_size + bad_exposure + time_backwards + unreadable; }
+  [[nodiscard]] std::uint64_t total() const {
+    std::uint64_t n = 0;
+    for (const std::uint64_t c : by_reason) n += c;
+    return n;
+  }
 };
 
 struct FrameProcessorConfig {
@@ -38,10 +41,10 @@ class FrameProcessor {
   /// Never throws; no allocation after the first frame of the configured size.
   dsp::VelocityEstimate process(const dsp::FrameView& frame) noexcept;
   void reset() noexcept;
-  /// A frame the source could not deliver (`reason`: "unreadable", ...):
-  /// no estimate, counted; the estimator keeps its history, so the next
-  /// good frame is measured as usual.
-  dsp::VelocityEstimate reject(const dsp::FrameView& frame, const char* reason) noexcept;
+  /// A frame the source could not deliver (RejectReason::unreadable, ...):
+  /// no estimate, counted under its reason; the estimator keeps its
+  /// history, so the next good frame is measured as usual.
+  dsp::VelocityEstimate reject(const dsp::FrameView& frame, RejectReason reason) noexcept;
 
   [[nodiscard]] const FrameRejectCounters& rejects() const { return rejects_; }
   [[nodiscard]] const FrameProcessorConfig& config() const { return config_; }

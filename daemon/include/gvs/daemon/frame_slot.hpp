@@ -2,7 +2,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
+#include "gvs/daemon/reject_reason.hpp"
 #include "gvs/dsp/frame.hpp"
 
 namespace gvs::daemon {
@@ -25,9 +27,10 @@ struct FrameSlot {
   std::int64_t captured_ns = 0;   ///< monotonic time the capture thread received the frame
   std::uint64_t sequence = 0;     ///< capture order, 1, 2, ... (gaps: frames the ring had no room for)
   FrameTruth truth;
-  /// Set by the source when it could not deliver this frame's pixels
-  /// ("unreadable", "wrong-size"): the frame gets no estimate, named so.
-  const char* defect = nullptr;
+  /// Set by the source (or the light check) when it could not deliver a
+  /// usable frame (unreadable, wrong size, no exposure time, ...): the frame
+  /// gets no estimate, its method names the reason, and it is counted.
+  std::optional<RejectReason> defect;
 };
 
 }  // namespace gvs::daemon

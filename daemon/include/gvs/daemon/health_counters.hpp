@@ -3,8 +3,11 @@
 // and the sender copies them into the status message.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
+
+#include "gvs/daemon/reject_reason.hpp"
 
 namespace gvs::daemon {
 
@@ -23,6 +26,7 @@ enum class HealthGroup : std::uint8_t { capture, processing, can, exposure, ligh
 enum class HealthShow : std::uint8_t {
   value,    ///< the text with the value
   delta,    ///< the text, then the change since the previous line: "ring overruns 2 (+2)"
+  delta_by_reason,  ///< as delta, then each RejectReason that occurred: "rejected 3 (+1) [unreadable 1 (+0), ...]"
   nonzero,  ///< the text only when the value is not 0
   hidden,   ///< not in the line (heartbeats for the watchdog, the sender's own tick count)
 };
@@ -60,7 +64,7 @@ enum class HealthShow : std::uint8_t {
     "frames the estimator ran on")                                                                                \
   X(frames_skipped, std::uint64_t, processing, processing, delta, "skipped {v}", "frames",                         \
     "older frames passed over for the newest")                                                                    \
-  X(frames_rejected, std::uint64_t, processing, processing, delta, "rejected {v}", "frames",                       \
+  X(frames_rejected, std::uint64_t, processing, processing, delta_by_reason, "rejected {v}", "frames",                       \
     "bad input frames (unreadable, wrong size or exposure, time backwards)")                                      \
   X(estimator_failures, std::uint64_t, processing, processing, delta, "estimator failures {v}", "frames",          \
     "frames without a speed estimate")                                                                            \
@@ -88,6 +92,8 @@ struct HealthCounters {
 #define GVS_HEALTH_ATOMIC(name, type, thread, group, show, text, unit, help) std::atomic<type> name{0};
   GVS_HEALTH_COUNTERS(GVS_HEALTH_ATOMIC)
 #undef GVS_HEALTH_ATOMIC
+  /// frames_rejected per RejectReason (processing thread).
+  std::array<std::atomic<std::uint64_t>, kRejectReasonCount> frames_rejected_by{};
 };
 
 /// A plain copy of the counters at one moment.
@@ -95,6 +101,7 @@ struct HealthSnapshot {
 #define GVS_HEALTH_VALUE(name, type, thread, group, show, text, unit, help) type name = 0;
   GVS_HEALTH_COUNTERS(GVS_HEALTH_VALUE)
 #undef GVS_HEALTH_VALUE
+  RejectCounts frames_rejected_by{};
 };
 
 inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
@@ -102,6 +109,9 @@ inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
 #define GVS_HEALTH_COPY(name, type, thread, group, show, text, unit, help) s.name = c.name.load(std::memory_order_relaxed);
   GVS_HEALTH_COUNTERS(GVS_HEALTH_COPY)
 #undef GVS_HEALTH_COPY
+  for (std::size_t i = 0; i < kRejectReasonCount; ++i) {
+    s.frames_rejected_by[i] = c.frames_rejected_by[i].load(std::memory_order_relaxed);
+  }
   return s;
 }
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -96,7 +97,7 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
     std::int64_t t_ns = 0;
     double exposure_us = 0.0;
     double analogue_gain = 0.0;
-    const char* defect = nullptr;
+    std::optional<RejectReason> defect;
   };
 
   // camera library's thread

@@ -11,11 +11,11 @@
 
 namespace gvs::drivers {
 
-/// One parsed row; `method` owns its text (VelocityEstimate::method points at
-/// a literal, which a file cannot provide).
+/// One parsed row. The `method` word maps back through dsp::kMethods; a word
+/// the table lacks (a file from another estimator: the format allows any
+/// word) reads as dsp::Method::unknown.
 struct EstimateRow {
   dsp::VelocityEstimate estimate;
-  std::string method;
 };
 
 class EstimatesCsvWriter {

@@ -3,6 +3,8 @@
 
 #include <cstdint>
 
+#include "gvs/dsp/method.hpp"
+
 namespace gvs::dsp {
 
 /// Velocity of the sensor over the ground, as estimated from one frame (and,
@@ -32,10 +34,10 @@ struct VelocityEstimate {
   /// for this frame's speed near it). Without it, a missing speed is a
   /// start-up miss: the exposure controller then searches the exposures.
   bool tracking = false;
-  /// Short lowercase word: the estimator that produced the row, or why there
-  /// is no estimate ("dark", "saturated", "no-texture", ...). Always a string
-  /// literal with static storage, so copying an estimate never allocates.
-  const char* method = "none";
+  /// The measurement that produced the estimate, or why there is none
+  /// (Method::dark, Method::no_texture, ...); its word is the estimates CSV's
+  /// `method` column and its code the CAN signal GVS_Method.
+  Method method = Method::none;
 
   /// vx, vy are known when speed and direction are, or when the car stands.
   [[nodiscard]] bool has_velocity_xy() const {
@@ -46,7 +48,7 @@ struct VelocityEstimate {
 };
 
 /// An estimate that says "nothing measured, because `reason`".
-inline VelocityEstimate no_estimate(std::int64_t index, std::int64_t t_ns, const char* reason) {
+inline VelocityEstimate no_estimate(std::int64_t index, std::int64_t t_ns, Method reason) {
   VelocityEstimate e;
   e.index = index;
   e.t_ns = t_ns;

@@ -77,10 +77,10 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///  - adaptive: continuous exposure (pulse_count 0) of T = target_streak_px*s/v,
 ///    clamped to [min_pulse_us, max_exposure_us]; unchanged while the streak
 ///    predicted for `current` stays within [min_streak_px, max_streak_px].
-///    Without a speed: a streak too long to measure (method "streak-*")
+///    Without a speed: a streak too long to measure (Method::streak_*)
 ///    gives T_frame/4 unless the estimator is still `tracking` a recent
 ///    speed (then one such frame is a miss: hold); a streak too short for
-///    a direction ("short-streak") gives 4 T_frame; any other moving frame
+///    a direction (Method::short_streak) gives 4 T_frame; any other moving frame
 ///    below max_exposure_us, when the estimator is not `tracking` a recent
 ///    speed (a start-up miss), gives T_frame/2, and below min_pulse_us max_exposure_us again (a sweep over
 ///    the octaves that cannot lock up on a streak the estimator will not

@@ -2,7 +2,11 @@
 // frames give no estimate (quality 0, method names the reason).
 #pragma once
 
+#include <optional>
+
 #include <opencv2/core/mat.hpp>
+
+#include "gvs/dsp/method.hpp"
 
 namespace gvs::dsp {
 
@@ -21,7 +25,7 @@ struct FrameCheckLimits {
 
 FrameStats measure_frame(const cv::Mat& gray);
 
-/// nullptr when the frame is usable, else the reason: "dark", "saturated", "no-texture".
-const char* frame_problem(const FrameStats& stats, const FrameCheckLimits& limits = {});
+/// Nothing when the frame is usable, else the reason: Method::dark, Method::saturated or Method::no_texture.
+std::optional<Method> frame_problem(const FrameStats& stats, const FrameCheckLimits& limits = {});
 
 }  // namespace gvs::dsp

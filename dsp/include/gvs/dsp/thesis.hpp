@@ -9,7 +9,7 @@
 //   thesis            the overall system (ch. 6): speed from the Laplacian;
 //                     direction from ORB below 15 km/h, from the FFT above.
 //                     Its `method` says where the direction came from:
-//                     "thesis-lap-orb", "thesis-lap-fft", or "thesis-lap"
+//                     Method::thesis_lap_orb, thesis_lap_fft, or thesis_lap
 //                     (speed only: the direction part measured nothing).
 #pragma once
 

@@ -1,0 +1,38 @@
+// The bridge between the estimator's output and the CAN library, which does
+// not know dsp's types: the estimate as the bus sees it, and GVS_Method's
+// words for `gvs monitor`.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "gvs/can/codec.hpp"
+#include "gvs/dsp/estimate.hpp"
+#include "gvs/dsp/method.hpp"
+
+namespace gvs::daemon {
+
+inline can::BusEstimate bus_estimate(const dsp::VelocityEstimate& e) noexcept {
+  can::BusEstimate b;
+  b.t_ns = e.t_ns;
+  b.has_speed = e.has_speed;
+  b.has_direction = e.has_direction;
+  b.has_yaw_rate = e.has_yaw_rate;
+  b.has_velocity_xy = e.has_velocity_xy();
+  b.speed_mps = e.speed_mps;
+  b.direction_deg = e.direction_deg;
+  b.yaw_rate_dps = e.yaw_rate_dps;
+  b.vx_mps = e.vx_mps;
+  b.vy_mps = e.vy_mps;
+  b.quality = e.quality;
+  b.method_code = dsp::method_can_code(e.method);
+  return b;
+}
+
+/// The estimates CSV word of a GVS_Method code; nullptr for a code not in dsp::kMethods.
+inline const char* method_word_of_code(std::uint8_t code) noexcept {
+  const std::optional<dsp::Method> m = dsp::method_from_can_code(code);
+  return m ? dsp::method_word(*m) : nullptr;
+}
+
+}  // namespace gvs::daemon
