@@ -1,5 +1,8 @@
 // gvs sim: writes a simulated run as a gvs-dataset/1 folder, truth included.
+#include <unistd.h>
+
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -7,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "live_source.hpp"
 #include "gvs/daemon/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
@@ -22,7 +26,52 @@ struct SimOptions {
   std::string light = "normal";
   std::string exposure_mode = "fixed";
   std::string loop_method = "gvs";
+  bool force = false;
 };
+
+namespace fs = std::filesystem;
+
+/// The dataset is rendered into a hidden folder beside --out (same file
+/// system, so the final rename is atomic); an interrupted or failed run
+/// removes it and leaves --out as it was.
+class StagingFolder {
+ public:
+  explicit StagingFolder(fs::path out) : out_(std::move(out)) {
+    out_ = out_.lexically_normal();
+    if (!out_.has_filename()) out_ = out_.parent_path();  // "run/" names the folder "run"
+    const fs::path parent = out_.has_parent_path() ? out_.parent_path() : fs::path(".");
+    path_ = parent / ("." + out_.filename().string() + ".partial-" + std::to_string(::getpid()));
+    fs::remove_all(path_);
+  }
+  StagingFolder(const StagingFolder&) = delete;
+  StagingFolder& operator=(const StagingFolder&) = delete;
+  ~StagingFolder() {
+    std::error_code ec;
+    if (!committed_) fs::remove_all(path_, ec);
+  }
+  [[nodiscard]] const fs::path& path() const { return path_; }
+  /// Replaces the --out folder (checked by check_out_folder) with the run.
+  void commit() {
+    if (fs::exists(out_)) fs::remove_all(out_);
+    fs::rename(path_, out_);
+    committed_ = true;
+  }
+
+ private:
+  fs::path out_;
+  fs::path path_;
+  bool committed_ = false;
+};
+
+/// Refuses to mix a new run into an existing dataset unless told to replace it.
+void check_out_folder(const SimOptions& o) {
+  const fs::path out(o.out);
+  if (!fs::exists(out)) return;
+  if (!fs::is_directory(out)) throw std::runtime_error(o.out + ": exists and is not a folder; name a new folder for --out");
+  if (!fs::is_empty(out) && !o.force) {
+    throw std::runtime_error(o.out + ": exists and is not empty; name a new folder, or pass --force to replace it");
+  }
+}
 
 void run_sim(const SimOptions& o) {
   drivers::SimulatorConfig config = o.config;
@@ -30,13 +79,16 @@ void run_sim(const SimOptions& o) {
       {"normal", drivers::LightLevel::normal}, {"under", drivers::LightLevel::under}, {"over", drivers::LightLevel::over}};
   config.light = lights.at(o.light);
 
+  check_out_folder(o);
   drivers::Simulator sim(config);
   drivers::CameraInfo camera;
   camera.geometry = config.camera;
   camera.ground = sim.config().ground;
   camera.description = "gvs sim --scenario " + config.scenario + " --seed " + std::to_string(config.seed);
   if (camera.ground != "procedural") camera.description += " --ground " + camera.ground;
-  drivers::DatasetWriter writer(o.out, camera, /*with_truth=*/true);
+  install_stop_signals();  // before the staging folder exists, so Ctrl-C always cleans it up
+  StagingFolder staging(o.out);
+  drivers::DatasetWriter writer(staging.path(), camera, /*with_truth=*/true);
 
   // Closed loop: the estimator measures each frame as gvsd would, and the
   // exposure controller plans the next frame's exposure from that estimate.
@@ -55,7 +107,8 @@ void run_sim(const SimOptions& o) {
 
   drivers::SimFrame frame;
   std::size_t count = 0;
-  while (sim.next(frame)) {
+  const std::atomic<bool>& stop = stop_requested();
+  while (!stop.load() && sim.next(frame)) {
     writer.write_frame(frame.gray, frame.record);
     writer.write_truth(frame.truth);
     ++count;
@@ -70,6 +123,11 @@ void run_sim(const SimOptions& o) {
     }
   }
   writer.close();
+  if (stop.load()) {
+    std::fprintf(stderr, "gvs sim: interrupted after %zu frames; %s left as it was\n", count, o.out.c_str());
+    throw Interrupted{};
+  }
+  staging.commit();
   std::printf("wrote %zu frames of scenario '%s' (exposure %s, ground %s) to %s\n", count, config.scenario.c_str(),
               o.exposure_mode.c_str(), camera.ground.c_str(), o.out.c_str());
 }
@@ -82,7 +140,9 @@ void register_sim(CLI::App& app) {
   std::string names;
   for (const std::string& n : drivers::scenario_names()) names += (names.empty() ? "" : ", ") + n;
   cmd->add_option("--scenario", opts->config.scenario, "Scenario: " + names)->required();
-  cmd->add_option("--out", opts->out, "Dataset folder to write (created)")->required();
+  cmd->add_option("--out", opts->out, "Dataset folder to write (created; an existing non-empty one needs --force)")
+      ->required();
+  cmd->add_flag("--force", opts->force, "Replace an existing dataset folder at --out");
   cmd->add_option("--seconds", opts->config.seconds, "Length of the run (default: the scenario's)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", opts->config.seed, "Texture and noise seed")->capture_default_str();

@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const gvs::cli::Interrupted&) {
+    return 130;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "gvs: error: %s\n", e.what());
     return 1;
