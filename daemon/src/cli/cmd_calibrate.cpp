@@ -17,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
+#include "usage.hpp"
 #include "gvs/daemon/config_edit.hpp"
 #include "gvs/daemon/replay.hpp"
 #include "gvs/drivers/checkerboard.hpp"
@@ -126,7 +127,7 @@ void register_calibrate(CLI::App& app) {
   s->add_option("image", scale->image, "Frame (PNG) showing the whole board")->required()->check(CLI::ExistingFile);
   s->add_option("--inner-corners", scale->inner_corners, "Inner corners, COLSxROWS")->capture_default_str();
   s->add_option("--square-mm", scale->square_mm, "Measured size of one square, mm")
-      ->check(CLI::Range(0.1, 1000.0))->capture_default_str();
+      ->check(number_in(0.1, 1000.0))->capture_default_str();
   s->add_option("--config", scale->config, "gvsd configuration to write [camera] mm_per_px into (must exist)");
   s->add_flag("--create-config", scale->create_config, "Create the --config file if it does not exist");
   s->callback([scale] { run_scale(*scale); });
@@ -134,8 +135,10 @@ void register_calibrate(CLI::App& app) {
   auto yaw = std::make_shared<YawOptions>();
   CLI::App* y = cmd->add_subcommand("yaw", "mount_yaw_deg from a recording of driving straight ahead");
   y->add_option("dataset", yaw->dataset, "gvs-dataset folder")->required()->check(CLI::ExistingDirectory);
-  y->add_option("--min-speed-kmh", yaw->min_speed_kmh, "Ignore slower frames")->capture_default_str();
-  y->add_option("--method", yaw->method, "Estimator")->capture_default_str();
+  y->add_option("--min-speed-kmh", yaw->min_speed_kmh, "Ignore slower frames")
+      ->check(number_in(0.0, 500.0))
+      ->capture_default_str();
+  y->add_option("--method", yaw->method, "Estimator: " + method_list())->check(method_check())->capture_default_str();
   y->add_option("--config", yaw->config, "gvsd configuration to write [camera] mount_yaw_deg into (must exist)");
   y->add_flag("--create-config", yaw->create_config, "Create the --config file if it does not exist");
   y->callback([yaw] { run_yaw(*yaw); });

@@ -31,6 +31,7 @@
 #include "gvs/can/candump.hpp"
 #include "gvs/can/codec.hpp"
 #include "gvs/can/monitor.hpp"
+#include "usage.hpp"
 
 namespace gvs::cli {
 
@@ -176,8 +177,9 @@ void register_monitor(CLI::App& app) {
       ->required();
   cmd->add_option("--base-id", opts->base_id, "Base CAN ID of the gvs messages (default 0x300)");
   cmd->add_flag("--follow", opts->follow, "Keep reading a growing log file (like tail -f)");
-  cmd->add_option("--refresh-ms", opts->refresh_ms, "Screen refresh period")->check(CLI::Range(20, 10000));
-  cmd->add_option("--seconds", opts->max_seconds, "Stop after this many seconds (interface or --follow)");
+  cmd->add_option("--refresh-ms", opts->refresh_ms, "Screen refresh period")->check(whole_number_in(20, 10000));
+  cmd->add_option("--seconds", opts->max_seconds, "Stop after this many seconds (interface or --follow)")
+      ->check(positive_number());
   cmd->add_flag("--plain", opts->plain, "Do not clear the screen between refreshes");
   cmd->callback([opts] { run_monitor(*opts); });
 }

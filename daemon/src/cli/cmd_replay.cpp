@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "usage.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/replay.hpp"
 #include "gvs/drivers/dataset.hpp"
@@ -60,7 +61,8 @@ void register_replay(CLI::App& app) {
   cmd->add_option("--out", opts->out, "Estimates CSV to write")->required();
   cmd->add_option("--config", opts->config_file, "gvsd configuration (TOML) to take the estimator settings from")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--method", opts->method, "Estimator (overrides the configuration)");
+  cmd->add_option("--method", opts->method, "Estimator (overrides the configuration; default gvs): " + method_list())
+      ->check(method_check());
   cmd->add_flag("--timing", opts->timing, "Also time PNG decoding and one forward DFT per frame, and compare");
   cmd->callback([opts] { run_replay(*opts); });
 }

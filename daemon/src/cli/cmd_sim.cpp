@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "usage.hpp"
 #include "live_source.hpp"
 #include "gvs/daemon/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
@@ -132,30 +133,53 @@ void run_sim(const SimOptions& o) {
               o.exposure_mode.c_str(), camera.ground.c_str(), o.out.c_str());
 }
 
+/// What each scenario drives, for --help (drivers/src/sim/scenarios.cpp).
+std::string scenario_help() {
+  static const std::map<std::string, std::string> what = {
+      {"const", "speeds 1 .. 140 km/h at a fixed direction of 10 deg, 1 s each (9 s)"},
+      {"sine", "60 km/h, direction swinging +-8 deg at 0.5 Hz (10 s)"},
+      {"accel", "standing 0.5 s, 0 -> 140 km/h in 6 s, 1 s at 140 km/h (7.5 s)"},
+      {"skidpad", "skidpad circle, radius 9.125 m at 12 m/s turning left, -3 deg sideslip (8 s)"},
+      {"crawl", "crawling 0.1 - 4 m/s with direction changes, reversing, a little yaw (10 s)"},
+      {"stop", "standing still 2 s, then pulling away to 5 m/s within 2.5 s (6 s)"},
+      {"spin", "sliding at 15 m/s while the car spins 180 deg CCW (5 s)"},
+  };
+  std::string text = "Scenario:";
+  for (const std::string& n : drivers::scenario_names()) {
+    const auto it = what.find(n);
+    text += "\n  " + n + ": " + (it != what.end() ? it->second : "(see docs/simulator.md)");
+  }
+  return text;
+}
+
 }  // namespace
 
 void register_sim(CLI::App& app) {
   auto opts = std::make_shared<SimOptions>();
   CLI::App* cmd = app.add_subcommand("sim", "Render a simulated run into a gvs-dataset/1 folder (with truth.csv)");
-  std::string names;
-  for (const std::string& n : drivers::scenario_names()) names += (names.empty() ? "" : ", ") + n;
-  cmd->add_option("--scenario", opts->config.scenario, "Scenario: " + names)->required();
+  cmd->add_option("--scenario", opts->config.scenario, scenario_help())
+      ->required()
+      ->check(CLI::IsMember(drivers::scenario_names()));
   cmd->add_option("--out", opts->out, "Dataset folder to write (created; an existing non-empty one needs --force)")
       ->required();
   cmd->add_flag("--force", opts->force, "Replace an existing dataset folder at --out");
-  cmd->add_option("--seconds", opts->config.seconds, "Length of the run (default: the scenario's)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--seed", opts->config.seed, "Texture and noise seed")->capture_default_str();
-  cmd->add_option("--fps", opts->config.fps, "Frame rate")->check(CLI::Range(1.0, 1000.0))->capture_default_str();
+  cmd->add_option("--seconds", opts->config.seconds, "Length of the run, s (default: the scenario's)")
+      ->check(positive_number());
+  cmd->add_option("--seed", opts->config.seed, "Texture and noise seed")
+      ->check(seed_number())
+      ->capture_default_str();
+  cmd->add_option("--fps", opts->config.fps, "Frame rate, Hz")->check(number_in(1.0, 1000.0))->capture_default_str();
   cmd->add_option("--exposure-us", opts->config.exposure_us, "Continuous exposure, microseconds (with --exposure adaptive or double-pulse: the longest)")
-      ->check(CLI::Range(1.0, 100000.0))
+      ->check(number_in(1.0, 100000.0))
       ->capture_default_str();
   cmd->add_option("--exposure", opts->exposure_mode,
                   "Exposure control: fixed (--exposure-us), adaptive (one strobe keeping the streak 10-80 px) or "
                   "double-pulse, closed loop through the estimator")
       ->check(CLI::IsMember({"fixed", "adaptive", "double-pulse"}))
       ->capture_default_str();
-  cmd->add_option("--loop-method", opts->loop_method, "Estimator closing the exposure loop")->capture_default_str();
+  cmd->add_option("--loop-method", opts->loop_method, "Estimator closing the exposure loop: " + method_list())
+      ->check(method_check())
+      ->capture_default_str();
   cmd->add_option("--light", opts->light, "Scene brightness: normal, under (mean grey ~10), over (~15 % saturated)")
       ->check(CLI::IsMember({"normal", "under", "over"}))
       ->capture_default_str();
@@ -163,11 +187,11 @@ void register_sim(CLI::App& app) {
                   "Ground: procedural (the simulated asphalt) or photo:FILE[:MM_PER_PIXEL], a seamless square "
                   "grey photo at MM_PER_PIXEL (default 0.2) laid in randomised, blended tiles")
       ->capture_default_str();
-  cmd->add_option("--width", opts->config.camera.width_px, "Image width, px")->check(CLI::Range(16, 4096));
-  cmd->add_option("--height", opts->config.camera.height_px, "Image height, px")->check(CLI::Range(16, 4096));
-  cmd->add_option("--mm-per-px", opts->config.camera.mm_per_px, "Ground resolution")->check(CLI::Range(0.01, 10.0));
+  cmd->add_option("--width", opts->config.camera.width_px, "Image width, px")->check(whole_number_in(16, 4096));
+  cmd->add_option("--height", opts->config.camera.height_px, "Image height, px")->check(whole_number_in(16, 4096));
+  cmd->add_option("--mm-per-px", opts->config.camera.mm_per_px, "Ground resolution, mm per pixel")->check(number_in(0.01, 10.0));
   cmd->add_option("--mount-yaw-deg", opts->config.camera.mount_yaw_deg, "Camera yaw on the car, CCW from above")
-      ->check(CLI::Range(-180.0, 180.0));
+      ->check(number_in(-180.0, 180.0));
   cmd->callback([opts] { run_sim(*opts); });
 }
 

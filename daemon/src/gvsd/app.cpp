@@ -22,6 +22,7 @@
 #include "gvs/daemon/logging.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/daemon/rt.hpp"
+#include "gvs/version.hpp"
 
 namespace gvs::daemon {
 
@@ -235,7 +236,10 @@ int run(const CommandLine& cli) {
 int gvsd_main(int argc, char** argv) {
   CLI::App app{
       "gvsd: ground velocity sensor daemon. Frames from a camera (or the simulator, or a recorded dataset) "
-      "in, velocity on the CAN bus every 20 ms out."};
+      "in, velocity on the CAN bus every 20 ms out.",
+      "gvsd"};
+  app.set_version_flag("--version", std::string("gvsd ") + GVS_VERSION + " (" + GVS_GIT_COMMIT + ")",
+                       "print the version and the git commit, then exit");
   CommandLine cli;
   app.add_option("--config", cli.config_file, "TOML configuration file (see systemd/gvsd.toml)")
       ->check(CLI::ExistingFile);
@@ -249,7 +253,8 @@ int gvsd_main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Usage errors exit 2, as getopt tools do; --help and --version exit 0.
+    return app.exit(e) == 0 ? 0 : 2;
   }
   return run(cli);
 }
