@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "usage.hpp"
 #include "live_source.hpp"
+#include "progress.hpp"
 #include "gvs/daemon/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
@@ -109,10 +110,12 @@ void run_sim(const SimOptions& o) {
   drivers::SimFrame frame;
   std::size_t count = 0;
   const std::atomic<bool>& stop = stop_requested();
+  auto progress = std::make_unique<Progress>("gvs sim", sim.frame_count());
   while (!stop.load() && sim.next(frame)) {
     writer.write_frame(frame.gray, frame.record);
     writer.write_truth(frame.truth);
     ++count;
+    progress->update(count);
     if (loop) {
       dsp::FrameView view;
       view.gray = frame.gray;
@@ -123,6 +126,7 @@ void run_sim(const SimOptions& o) {
       sim.set_exposure(dsp::next_exposure(e, frame.record.exposure, mode, limits));
     }
   }
+  progress.reset();
   writer.close();
   if (stop.load()) {
     std::fprintf(stderr, "gvs sim: interrupted after %zu frames; %s left as it was\n", count, o.out.c_str());
