@@ -122,24 +122,40 @@ void MonitorState::feed(const CanFrame& frame, std::int64_t t_ns) noexcept {
   }
 }
 
+bool MonitorState::silent(MessageKind kind, std::int64_t now_ns) const noexcept {
+  const MessageStats& s = stats(kind);
+  if (s.frames == 0) return false;
+  const double mean_hz = s.mean_rate_hz();
+  const double expected_gap_ms = mean_hz > 0.0 ? 3.0 * 1000.0 / mean_hz : 0.0;
+  return diff_ms(now_ns, s.last_t_ns) > (expected_gap_ms > kSilentAfterMs ? expected_gap_ms : kSilentAfterMs);
+}
+
 std::string MonitorState::render(std::int64_t now_ns) const {
   std::string out;
   out.reserve(2048);
   appendf(out, "gvs monitor  base ID 0x%03" PRIX32 "   frames %" PRIu64 "  (other IDs %" PRIu64 ")\n", ids_.base,
           total_frames_, other_frames_);
+  const double quiet_ms = total_frames_ > 0 ? diff_ms(now_ns, last_t_ns_) : 0.0;
+  if (quiet_ms > kSilentAfterMs) {
+    appendf(out, "NO DATA for %.0f ms: the values below are the last received, not current\n", quiet_ms);
+  }
   if (has(MessageKind::Velocity)) {
+    // A silent sender's last "valid" is history: shown as "old", never "yes".
+    const bool stale = silent(MessageKind::Velocity, now_ns);
+    const auto validity = [stale](bool v) { return stale ? "old" : yes_no(v); };
     const VelocityMsg& v = velocity_;
     appendf(out, "speed      %8.2f m/s  %7.2f km/h  valid %s\n", v.speed_mps, v.speed_mps * 3.6,
-            yes_no(v.speed_valid));
-    appendf(out, "direction  %8.2f deg                valid %s\n", v.direction_deg, yes_no(v.direction_valid));
-    appendf(out, "yaw rate   %8.1f deg/s              valid %s\n", v.yaw_rate_dps, yes_no(v.yaw_rate_valid));
-    appendf(out, "GVS_Valid  %s   quality %3.0f %%\n", v.valid ? "1" : "0", v.quality_pct);
+            validity(v.speed_valid));
+    appendf(out, "direction  %8.2f deg                valid %s\n", v.direction_deg, validity(v.direction_valid));
+    appendf(out, "yaw rate   %8.1f deg/s              valid %s\n", v.yaw_rate_dps, validity(v.yaw_rate_valid));
+    appendf(out, "GVS_Valid  %s   quality %3.0f %%\n", stale ? "- (old)" : v.valid ? "1" : "0", v.quality_pct);
   } else {
     out += "speed/direction/yaw rate: no GVS_Velocity received\n";
   }
   if (has(MessageKind::VelocityXy)) {
     appendf(out, "vx %8.3f m/s  vy %8.3f m/s  valid %s  age %" PRIu32 " ms%s\n", xy_.vx_mps, xy_.vy_mps,
-            yes_no(xy_.valid), xy_.age_ms, xy_.age_ms == 65535 ? " (none)" : "");
+            silent(MessageKind::VelocityXy, now_ns) ? "old" : yes_no(xy_.valid), xy_.age_ms,
+            xy_.age_ms == 65535 ? " (none)" : "");
   } else {
     out += "vx/vy: no GVS_VelocityXY received\n";
   }
@@ -159,7 +175,8 @@ std::string MonitorState::render(std::int64_t now_ns) const {
     const MessageStats& s = stats(m.kind);
     const double since = s.frames > 0 ? diff_ms(now_ns, s.last_t_ns) : 0.0;
     appendf(out, "%-15.*s %7" PRIu64 "  %8.1f %8.1f %11.1f %9.0f %8" PRIu64 " %8" PRIu64 " %10" PRIu64 " %5" PRIu64 "\n",
-            static_cast<int>(m.name.size()), m.name.data(), s.frames, s.recent_rate_hz(), s.mean_rate_hz(),
+            static_cast<int>(m.name.size()), m.name.data(), s.frames,
+            silent(m.kind, now_ns) ? 0.0 : s.recent_rate_hz(), s.mean_rate_hz(),
             s.max_gap_ms, since, s.crc_errors, s.bad_length, s.counter_jumps, s.frames_lost);
   }
   appendf(out, "bus error frames %" PRIu64 "  bus-off %" PRIu64 "  error-passive %" PRIu64

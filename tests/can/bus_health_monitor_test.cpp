@@ -176,6 +176,33 @@ TEST(Monitor, RatesCountersAndValues) {
   EXPECT_NE(flagged.find("faults 0x0801 (Camera, Implausible)"), std::string::npos) << flagged;
 }
 
+TEST(Monitor, SilenceIsFlaggedAndNotShownAsValid) {
+  Encoder enc({});
+  MonitorState mon;
+  std::int64_t t = 1'000'000'000;
+  const VelocityMsg valid{true, true, true, true, 10.0, 0.0, 0.0, 90.0};
+  for (int cycle = 0; cycle < 50; ++cycle, t += 20'000'000) {
+    mon.feed(enc.velocity(valid), t);
+    if (cycle % 5 == 0) mon.feed(enc.status({SensorState::Running, 0, 0, 0, 0, 16}), t + 100'000);
+  }
+  const std::int64_t last = t - 20'000'000;
+  // One period after the last frame: current, valid, 50 Hz.
+  const std::string flowing = mon.render(last + 20'000'000);
+  EXPECT_EQ(flowing.find("NO DATA"), std::string::npos) << flowing;
+  EXPECT_NE(flowing.find("valid yes"), std::string::npos) << flowing;
+  EXPECT_FALSE(mon.silent(MessageKind::Velocity, last + 20'000'000));
+  // Status comes every 100 ms: 200 ms without one is not yet silence.
+  EXPECT_FALSE(mon.silent(MessageKind::Status, last + 200'000'000));
+  // Half a second of nothing: said on top, validity "old", rate 0.
+  const std::string quiet = mon.render(last + 500'000'000);
+  EXPECT_NE(quiet.find("NO DATA for 500 ms"), std::string::npos) << quiet;
+  EXPECT_EQ(quiet.find("valid yes"), std::string::npos) << quiet;
+  EXPECT_NE(quiet.find("36.00 km/h  valid old"), std::string::npos) << quiet;
+  EXPECT_NE(quiet.find("GVS_Velocity         50       0.0     50.0"), std::string::npos) << quiet;
+  EXPECT_TRUE(mon.silent(MessageKind::Velocity, last + 500'000'000));
+  EXPECT_TRUE(mon.silent(MessageKind::Status, last + 500'000'000));
+}
+
 TEST(Monitor, SurvivesArbitraryFramesAndTimes) {
   std::mt19937_64 rng(99);
   MonitorState mon;

@@ -7,6 +7,7 @@
 // ahead; its camera.json's mount_yaw_deg is what the estimates were made with.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
+#include "usage.hpp"
 #include "gvs/daemon/config_edit.hpp"
 #include "gvs/daemon/replay.hpp"
 #include "gvs/drivers/checkerboard.hpp"
@@ -31,6 +33,7 @@ struct ScaleOptions {
   std::string inner_corners = "9x6";
   double square_mm = 10.0;
   std::string config;
+  bool create_config = false;
 };
 
 struct YawOptions {
@@ -38,7 +41,17 @@ struct YawOptions {
   double min_speed_kmh = 5.0;
   std::string method = "gvs";
   std::string config;
+  bool create_config = false;
 };
+
+/// A mistyped --config would otherwise become a new file holding one key
+/// while gvsd keeps reading the real one; creating it has to be asked for.
+/// Checked before the measurement so a long fit is not wasted.
+void check_config_target(const std::string& config, bool create) {
+  if (config.empty() || create || std::filesystem::exists(config)) return;
+  throw std::runtime_error(config + ": no such configuration file; check the path (gvsd reads "
+                           "/etc/gvsd/gvsd.toml on the car), or pass --create-config to start a new file");
+}
 
 cv::Size parse_inner(const std::string& text) {
   int cols = 0;
@@ -51,6 +64,7 @@ cv::Size parse_inner(const std::string& text) {
 }
 
 void run_scale(const ScaleOptions& o) {
+  check_config_target(o.config, o.create_config);
   const cv::Size inner = parse_inner(o.inner_corners);
   const cv::Mat gray = cv::imread(o.image, cv::IMREAD_GRAYSCALE);
   if (gray.empty()) throw std::runtime_error(o.image + ": cannot be read as an image");
@@ -75,6 +89,7 @@ void run_scale(const ScaleOptions& o) {
 }
 
 void run_yaw(const YawOptions& o) {
+  check_config_target(o.config, o.create_config);
   const drivers::DatasetReader dataset(o.dataset);
   daemon::FrameProcessorConfig config;
   config.estimator.method = o.method;
@@ -112,16 +127,20 @@ void register_calibrate(CLI::App& app) {
   s->add_option("image", scale->image, "Frame (PNG) showing the whole board")->required()->check(CLI::ExistingFile);
   s->add_option("--inner-corners", scale->inner_corners, "Inner corners, COLSxROWS")->capture_default_str();
   s->add_option("--square-mm", scale->square_mm, "Measured size of one square, mm")
-      ->check(CLI::Range(0.1, 1000.0))->capture_default_str();
-  s->add_option("--config", scale->config, "gvsd configuration to write [camera] mm_per_px into");
+      ->check(number_in(0.1, 1000.0))->capture_default_str();
+  s->add_option("--config", scale->config, "gvsd configuration to write [camera] mm_per_px into (must exist)");
+  s->add_flag("--create-config", scale->create_config, "Create the --config file if it does not exist");
   s->callback([scale] { run_scale(*scale); });
 
   auto yaw = std::make_shared<YawOptions>();
   CLI::App* y = cmd->add_subcommand("yaw", "mount_yaw_deg from a recording of driving straight ahead");
   y->add_option("dataset", yaw->dataset, "gvs-dataset folder")->required()->check(CLI::ExistingDirectory);
-  y->add_option("--min-speed-kmh", yaw->min_speed_kmh, "Ignore slower frames")->capture_default_str();
-  y->add_option("--method", yaw->method, "Estimator")->capture_default_str();
-  y->add_option("--config", yaw->config, "gvsd configuration to write [camera] mount_yaw_deg into");
+  y->add_option("--min-speed-kmh", yaw->min_speed_kmh, "Ignore slower frames")
+      ->check(number_in(0.0, 500.0))
+      ->capture_default_str();
+  y->add_option("--method", yaw->method, "Estimator: " + method_list())->check(method_check())->capture_default_str();
+  y->add_option("--config", yaw->config, "gvsd configuration to write [camera] mount_yaw_deg into (must exist)");
+  y->add_flag("--create-config", yaw->create_config, "Create the --config file if it does not exist");
   y->callback([yaw] { run_yaw(*yaw); });
 }
 

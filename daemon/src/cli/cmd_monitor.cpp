@@ -4,7 +4,9 @@
 //   gvs monitor can0                 live view until Ctrl-C
 //   gvs monitor run.log              replay the log, print a summary
 //   gvs monitor run.log --follow     keep reading the growing log (like tail -f)
+//   gvsd | gvs monitor -             live view of a pipe until it ends
 // The decoding and statistics are gvs::can::MonitorState (can/).
+#include <fcntl.h>
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -20,7 +22,6 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
-#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -32,6 +33,7 @@
 #include "gvs/can/codec.hpp"
 #include "gvs/can/monitor.hpp"
 #include "gvs/daemon/bus_estimate.hpp"
+#include "usage.hpp"
 
 namespace gvs::cli {
 
@@ -62,43 +64,93 @@ void show(const can::MonitorState& mon, std::int64_t now_ns, const MonitorCliOpt
   std::fflush(stdout);
 }
 
-bool is_regular_file(const std::string& path) {
+/// A log to read (file, FIFO) rather than a CAN interface name.
+bool is_log_path(const std::string& path) {
   struct stat st {};
-  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+  if (::stat(path.c_str(), &st) == 0) return !S_ISDIR(st.st_mode);
+  return path.find('/') != std::string::npos;  // a missing file, named as such
 }
 
-void monitor_file(const MonitorCliOptions& o) {
-  std::ifstream in(o.target);
-  if (!in) throw std::runtime_error("cannot read candump log '" + o.target + "': " + std::strerror(errno));
+[[noreturn]] void not_candump(const std::string& source, std::size_t line_no, const std::string& line) {
+  throw std::runtime_error(source + ": line " + std::to_string(line_no) + " is not a candump -L line ('" +
+                           line.substr(0, 60) + "'); gvs monitor reads lines like '(1700000000.000000) can0 "
+                           "301#0011223344556677': record one with 'candump -L can0 > run.log' or "
+                           "'gvsd --can candump:run.log' (or pipe 'gvsd --can candump:-')");
+}
+
+/// A candump -L log from a file or a pipe, read without blocking so the view
+/// refreshes while frames arrive and shows when they stop. A pipe ends at
+/// end of input; a regular file with --follow is waited on like tail -f.
+void monitor_stream(const MonitorCliOptions& o) {
+  const bool from_stdin = o.target == "-";
+  const std::string source = from_stdin ? "standard input" : o.target;
+  const int fd = from_stdin ? STDIN_FILENO : ::open(o.target.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot read candump log '" + o.target + "': " + std::strerror(errno));
+  struct stat st {};
+  const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  const bool wait_at_end = regular && o.follow;  // a growing log file
+  const bool live = !regular || o.follow;        // refresh while reading
+
   can::MonitorState mon(can::MessageIds{o.base_id}, daemon::method_word_of_code);
-  std::string line;
-  std::int64_t next_refresh = 0;
-  const std::int64_t start = realtime_ns();
-  for (;;) {
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      const auto parsed = can::parse_candump_line(line);
-      if (!parsed) {
-        mon.note_malformed_line();
-        continue;
-      }
-      mon.feed(parsed->frame, parsed->t_ns);
+  std::string pending;
+  std::size_t line_no = 0;
+  bool seen_frame = false;
+  // Log timestamps may come from another clock (or another day): "now" for
+  // the view is the last frame's log time plus the wall time since it came.
+  std::int64_t last_arrival_ns = 0;
+  const auto view_now = [&] {
+    return seen_frame ? mon.last_t_ns() + (realtime_ns() - last_arrival_ns) : 0;
+  };
+  const auto take_line = [&](const std::string& line) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') return;
+    const auto parsed = can::parse_candump_line(line);
+    if (!parsed) {
+      if (!seen_frame) not_candump(source, line_no, line);  // wrong input, not a damaged line
+      mon.note_malformed_line();
+      return;
     }
-    if (!o.follow) break;
-    // Follow: the log grows while we read; show it against wall-clock time.
-    in.clear();
+    seen_frame = true;
+    last_arrival_ns = realtime_ns();
+    mon.feed(parsed->frame, parsed->t_ns);
+  };
+
+  const std::int64_t start = realtime_ns();
+  std::int64_t next_refresh = start;
+  char buf[65536];
+  bool at_end = false;
+  while (!g_stop) {
+    pollfd p{fd, POLLIN, 0};
+    const bool ready = regular ? !at_end : ::poll(&p, 1, 50) > 0;
+    if (ready) {
+      const ssize_t n = ::read(fd, buf, sizeof buf);
+      if (n < 0 && errno != EINTR && errno != EAGAIN) {
+        throw std::runtime_error("reading " + source + ": " + std::strerror(errno));
+      }
+      at_end = n == 0;
+      if (n > 0) pending.append(buf, static_cast<std::size_t>(n));
+      for (std::size_t nl; (nl = pending.find('\n')) != std::string::npos;) {
+        take_line(pending.substr(0, nl));
+        pending.erase(0, nl + 1);
+      }
+    } else if (regular) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));  // following: the file may grow
+      at_end = false;
+    }
+    if (at_end && !wait_at_end) break;
     const std::int64_t now = realtime_ns();
-    if (now >= next_refresh) {
-      show(mon, now, o, o.target + " (following)");
+    if (live && now >= next_refresh) {
+      show(mon, view_now(), o, source + (o.follow ? " (following)" : ""));
       next_refresh = now + std::int64_t{o.refresh_ms} * 1'000'000;
     }
-    if (g_stop || (o.max_seconds > 0 && static_cast<double>(now - start) / 1e9 >= o.max_seconds)) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (o.max_seconds > 0 && static_cast<double>(now - start) / 1e9 >= o.max_seconds) break;
   }
-  // Summary: "since" is measured against the last frame of the log.
+  if (!pending.empty()) take_line(pending);  // a last line without '\n'
+  if (!from_stdin) ::close(fd);
+  // Summary: a finished log is seen from its last frame; a live one from now.
   MonitorCliOptions plain = o;
   plain.plain = true;
-  show(mon, o.follow ? realtime_ns() : mon.last_t_ns(), plain, o.target + " (summary)");
+  show(mon, live ? view_now() : mon.last_t_ns(), plain, source + " (summary)");
 }
 
 void monitor_bus(const MonitorCliOptions& o) {
@@ -153,14 +205,14 @@ void monitor_bus(const MonitorCliOptions& o) {
   show(mon, realtime_ns(), plain, o.target + " (summary)");
 }
 
-void run_monitor(const MonitorCliOptions& o) {
+void run_monitor(MonitorCliOptions o) {
   can::validate_base_id(o.base_id);
+  // Screen-clearing escapes only for a person at a terminal, never into a pipe or a file.
+  if (::isatty(STDOUT_FILENO) == 0) o.plain = true;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  if (o.target == "-" || is_regular_file(o.target)) {
-    MonitorCliOptions file = o;
-    if (o.target == "-") file.target = "/dev/stdin";
-    monitor_file(file);
+  if (o.target == "-" || is_log_path(o.target)) {
+    monitor_stream(o);
   } else {
     if (o.follow) throw std::invalid_argument("--follow is for log files; '" + o.target + "' is not a file");
     monitor_bus(o);
@@ -176,10 +228,11 @@ void register_monitor(CLI::App& app) {
   cmd->add_option("target", opts->target, "CAN interface (e.g. vcan0) or candump -L log file ('-' = stdin)")
       ->required();
   cmd->add_option("--base-id", opts->base_id, "Base CAN ID of the gvs messages (default 0x300)");
-  cmd->add_flag("--follow", opts->follow, "Keep reading a growing log file (like tail -f)");
-  cmd->add_option("--refresh-ms", opts->refresh_ms, "Screen refresh period")->check(CLI::Range(20, 10000));
-  cmd->add_option("--seconds", opts->max_seconds, "Stop after this many seconds (interface or --follow)");
-  cmd->add_flag("--plain", opts->plain, "Do not clear the screen between refreshes");
+  cmd->add_flag("--follow", opts->follow, "Keep reading a growing log file (like tail -f); a pipe ends at end of input");
+  cmd->add_option("--refresh-ms", opts->refresh_ms, "Screen refresh period")->check(whole_number_in(20, 10000));
+  cmd->add_option("--seconds", opts->max_seconds, "Stop after this many seconds (interface, pipe or --follow)")
+      ->check(positive_number());
+  cmd->add_flag("--plain", opts->plain, "Do not clear the screen between refreshes (always so when output is not a terminal)");
   cmd->callback([opts] { run_monitor(*opts); });
 }
 

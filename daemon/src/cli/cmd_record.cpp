@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "usage.hpp"
 #include "gvs/daemon/clock.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "live_source.hpp"
@@ -187,7 +188,7 @@ void register_record(CLI::App& app) {
   auto opts = std::make_shared<RecordOptions>();
   CLI::App* cmd = app.add_subcommand("record", "Record a gvs-dataset from the live camera (applied exposure, timestamps)");
   cmd->add_option("--out", opts->out, "Dataset folder to create")->required();
-  cmd->add_option("--seconds", opts->seconds, "How long to record")->capture_default_str()->check(CLI::Range(0.01, 86400.0));
+  cmd->add_option("--seconds", opts->seconds, "How long to record")->capture_default_str()->check(number_in(0.01, 86400.0));
   cmd->add_option("--config", opts->config_file, "gvsd configuration (TOML): source, camera, [libcamera], exposure")
       ->check(CLI::ExistingFile);
   cmd->add_option("--source", opts->source_uri, "Source URI, overrides the configuration: libcamera[:ID], sim:SCENARIO");

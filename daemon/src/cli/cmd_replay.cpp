@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "progress.hpp"
+#include "usage.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/replay.hpp"
 #include "gvs/drivers/dataset.hpp"
@@ -37,8 +39,16 @@ void run_replay(const ReplayCliOptions& o) {
   drivers::EstimatesCsvWriter writer(o.out);
   daemon::ReplayOptions options;
   options.time_reference_dft = o.timing;
-  const daemon::ReplayStats stats =
-      daemon::replay_dataset(dataset, config, [&](const dsp::VelocityEstimate& e) { writer.write(e); }, options);
+  std::size_t done = 0;
+  auto progress = std::make_unique<Progress>("gvs replay", dataset.frames().size());
+  const daemon::ReplayStats stats = daemon::replay_dataset(
+      dataset, config,
+      [&](const dsp::VelocityEstimate& e) {
+        writer.write(e);
+        progress->update(++done);
+      },
+      options);
+  progress.reset();
   writer.close();
   std::printf("replayed %zu frames with '%s': %zu with an estimate; wrote %s\n", stats.frames,
               config.estimator.method.c_str(), stats.with_estimate, o.out.c_str());
@@ -60,7 +70,8 @@ void register_replay(CLI::App& app) {
   cmd->add_option("--out", opts->out, "Estimates CSV to write")->required();
   cmd->add_option("--config", opts->config_file, "gvsd configuration (TOML) to take the estimator settings from")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--method", opts->method, "Estimator (overrides the configuration)");
+  cmd->add_option("--method", opts->method, "Estimator (overrides the configuration; default gvs): " + method_list())
+      ->check(method_check());
   cmd->add_flag("--timing", opts->timing, "Also time PNG decoding and one forward DFT per frame, and compare");
   cmd->callback([opts] { run_replay(*opts); });
 }

@@ -21,6 +21,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.hpp"
+#include "usage.hpp"
 #include "live_source.hpp"
 #include "gvs/daemon/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
@@ -181,7 +182,7 @@ void register_snapshot(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--frame", opts->frame, "Position in frames.csv (default: the last)");
   cmd->add_option("--out", opts->out, "PNG to write")->required();
-  cmd->add_option("--method", opts->method, "Estimator")->capture_default_str();
+  cmd->add_option("--method", opts->method, "Estimator: " + method_list())->check(method_check())->capture_default_str();
   cmd->callback([opts] {
     if (!opts->dataset.empty()) {
       snapshot_from_dataset(*opts);

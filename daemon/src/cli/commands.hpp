@@ -7,6 +7,10 @@ class App;
 
 namespace gvs::cli {
 
+/// Thrown by a command stopped by SIGINT / SIGTERM after cleaning up; gvs
+/// exits with 130, the shell's code for an interrupted command.
+struct Interrupted {};
+
 void register_sim(CLI::App& app);
 void register_replay(CLI::App& app);
 void register_eval(CLI::App& app);

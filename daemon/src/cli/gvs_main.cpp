@@ -5,9 +5,12 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "usage.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor, calibrate, snapshot, record)"};
+  CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor, calibrate, snapshot, record)",
+               "gvs"};
+  app.set_version_flag("--version", gvs::cli::version_text("gvs"), "Print the version and the git commit, then exit");
   app.require_subcommand(1);
   gvs::cli::register_sim(app);
   gvs::cli::register_replay(app);
@@ -16,10 +19,13 @@ int main(int argc, char** argv) {
   gvs::cli::register_calibrate(app);
   gvs::cli::register_snapshot(app);
   gvs::cli::register_record(app);
+  if (!gvs::cli::check_subcommands(app, argc, argv)) return gvs::cli::kUsageExitCode;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return gvs::cli::usage_exit(app, e);
+  } catch (const gvs::cli::Interrupted&) {
+    return 130;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "gvs: error: %s\n", e.what());
     return 1;

@@ -24,6 +24,7 @@
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/daemon/rt.hpp"
 #include "gvs/daemon/startup_check.hpp"
+#include "gvs/version.hpp"
 
 namespace gvs::daemon {
 
@@ -238,7 +239,10 @@ int run(const CommandLine& cli) {
 int gvsd_main(int argc, char** argv) {
   CLI::App app{
       "gvsd: ground velocity sensor daemon. Frames from a camera (or the simulator, or a recorded dataset) "
-      "in, velocity on the CAN bus every 20 ms out."};
+      "in, velocity on the CAN bus every 20 ms out.",
+      "gvsd"};
+  app.set_version_flag("--version", std::string("gvsd ") + GVS_VERSION + " (" + GVS_GIT_COMMIT + ")",
+                       "print the version and the git commit, then exit");
   CommandLine cli;
   app.add_option("--config", cli.config_file, "TOML configuration file (see systemd/gvsd.toml)")
       ->check(CLI::ExistingFile);
@@ -256,7 +260,8 @@ int gvsd_main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Usage errors exit 2, as getopt tools do; --help and --version exit 0.
+    return app.exit(e) == 0 ? 0 : 2;
   }
   if (cli.print_example) {
     fmt::print("{}", example_config_text());

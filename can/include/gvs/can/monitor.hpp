@@ -79,8 +79,15 @@ class MonitorState {
   [[nodiscard]] const TimingMsg& timing() const noexcept { return timing_; }
   [[nodiscard]] std::int64_t last_t_ns() const noexcept { return last_t_ns_; }
 
+  /// Nothing at all for longer than this: the view says so on top.
+  static constexpr double kSilentAfterMs = 100.0;
+  /// No frame of `kind` for three of its mean periods (at least
+  /// kSilentAfterMs) before `now_ns`: its last values are no longer current.
+  [[nodiscard]] bool silent(MessageKind kind, std::int64_t now_ns) const noexcept;
+
   /// The terminal view: values, validity, age, rates, counters, errors.
-  /// `now_ns` (same clock as feed) gives the time since each message.
+  /// `now_ns` (same clock as feed) gives the time since each message; a
+  /// silent message shows rate 0 and validity "old", never "yes".
   [[nodiscard]] std::string render(std::int64_t now_ns) const;
 
  private:
