@@ -1,5 +1,5 @@
 // [light] in gvsd.toml: defaults, the values it takes, and the refusals that
-// name the key (issue #6, light and trigger).
+// name the key.
 #include <gtest/gtest.h>
 
 #include "gvs/daemon/config.hpp"

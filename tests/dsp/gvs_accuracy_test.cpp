@@ -1,5 +1,5 @@
 // Accuracy of the "gvs" estimator on short simulated runs
-// (gvs::drivers::Simulator), against the table. Each run is a few
+// (gvs::drivers::Simulator), against the accuracy targets (docs/accuracy.md). Each run is a few
 // seconds of simulated driving; docs/estimator.md has the full-length figures.
 #include <gtest/gtest.h>
 
@@ -31,7 +31,7 @@ RunScore run_constant_velocity(double vx_mps, double vy_mps, double seconds, dri
   return run_and_score(sim, mode, skip_s);
 }
 
-/// The direction figures for under- and over-exposed frames:
+/// The direction targets for under- and over-exposed frames:
 /// a direction on 99 % of the band's frames, 0.2 deg RMS, 1.0 deg max.
 void expect_exposure_direction_figures(const BandScore& b) {
   EXPECT_GE(b.dir_coverage(), 0.99);
@@ -39,7 +39,7 @@ void expect_exposure_direction_figures(const BandScore& b) {
   EXPECT_LE(b.dir_max, 1.0);
 }
 
-/// The 0.5-5 km/h speed row with 3 ms: a speed on 99 % of the
+/// The 0.5-5 km/h speed target with 3 ms: a speed on 99 % of the
 /// band's frames, 2 % RMS.
 void expect_slow_speed_figures(const BandScore& b) {
   EXPECT_GE(b.speed_coverage(), 0.99);
@@ -101,7 +101,7 @@ TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
 }
 
 TEST(GvsAccuracy, AdaptiveStrobeAt60KmhClosedLoop) {
-  // The single-strobe targets: speed 1 % RMS, direction 0.3 deg RMS
+  // The single-strobe targets: speed 1 % RMS, direction 0.3 deg RMS
   // and 1.0 max (speed 1.02 % RMS and direction 0.28 deg before the streak
   // length's window and coarse-texture corrections; 0.54 % and 0.18 deg
   // after). Speed on >= 95 % of frames here (99 % is measured over longer
@@ -125,7 +125,7 @@ TEST(GvsAccuracy, FixedExposureAt60KmhGivesDirectionAndNoFalseSpeed) {
   const BandScore& b = band(s, 3);
   ASSERT_GT(b.frames, 70);
   EXPECT_GE(b.dir_coverage(), 0.99);
-  EXPECT_LE(b.dir_rms(), 0.1);  // the figures (0.2 / 1.0 before the high-|k| line weight)
+  EXPECT_LE(b.dir_rms(), 0.1);  // the targets
   EXPECT_LE(b.dir_max, 0.5);
   EXPECT_LE(b.speed_max, 0.05); // where a speed is given at all, never off by more than 5 %
 }
@@ -296,7 +296,7 @@ TEST(GvsAccuracy, UnderExposedDoublePulseAt60Kmh) {
   EXPECT_GE(b.speed_coverage(), 0.95);
   EXPECT_LE(b.speed_rms(), 0.01);
   EXPECT_LE(b.speed_max, 0.05);
-  EXPECT_LE(b.dir_rms(), 0.2);  // the under-exposed figures
+  EXPECT_LE(b.dir_rms(), 0.2);  // the under-exposed targets
   EXPECT_LE(b.dir_max, 1.0);
   EXPECT_EQ(s.confident_bad, 0);
 }

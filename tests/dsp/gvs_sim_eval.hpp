@@ -1,6 +1,6 @@
 // Runs the gvs estimator on simulator frames (optionally with closed-loop
 // exposure control) and scores it against the truth, per speed band of the
-// issue's accuracy table. Used by gvs_accuracy_test.cpp and gvs_sim_eval.cpp.
+// accuracy targets (docs/accuracy.md). Used by gvs_accuracy_test.cpp and gvs_sim_eval.cpp.
 #pragma once
 
 #include <algorithm>

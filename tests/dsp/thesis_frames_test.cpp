@@ -80,7 +80,7 @@ TEST(ThesisFrames, FftOnNoisyAndUnblurredFramesIsReported) {
   }
 }
 
-// The estimation issue: these frames come out straight ahead within 1 deg.
+// These frames of the thesis's straight runs come out straight ahead within 1 deg.
 // Their streaks are 20-100 px; the 20-30 px ones (vertical_mb_0/1,
 // blobnoise_0, saltpepper_0) are too short for a speed without a previous
 // frame, and their spectra's orientation is 1.0-1.5 deg off (the texture's

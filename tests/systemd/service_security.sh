@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # systemd/gvsd.service must score 2.0 or lower in
-# `systemd-analyze security --offline=yes` (the service issue) and keep the
+# `systemd-analyze security --offline=yes` and keep the
 # options the daemon depends on. Prints the score.
 set -euo pipefail
 unit=$1

@@ -63,7 +63,7 @@ struct AccuracyReport {
   std::optional<ConstantDirectionSummary> constant_direction;
 };
 
-/// The speed bands of the issue tracker and the docs, km/h.
+/// The speed bands of the accuracy targets (docs/accuracy.md), km/h.
 const std::vector<std::pair<double, double>>& speed_bands_kmh();
 
 /// Compares estimates with truth, matching rows by frame index.

@@ -1,5 +1,5 @@
 // The LED ring and the camera trigger: one frame's dsp::ExposurePlan turned
-// into output edges (issue #6, "Light and trigger").
+// into output edges (docs/hardware.md, "Light and trigger").
 //
 // Two drivers behind one interface:
 //   gpio — libgpiod 1.6 lines timed from user space (clock_nanosleep to an
