@@ -72,9 +72,11 @@ TEST(GvsAccuracy, StandstillThenPullingAway) {
 
 TEST(GvsAccuracy, AStreakLongerThanMeasurableDoesNotAliasIntoAShortOne) {
   // accel seed 9, 3 ms, straight ahead: streaks grow past the longest
-  // measurable (161 px) to 226-236 px at frames 146-148, whose circular
-  // alias at 384 - L = 150-160 px passed the cold-start tests (quality 0.7,
-  // 30-35 % slow) until the Hann cross-check. Frames from 2.1 s on.
+  // measurable (161 px) to 226-236 px at frames 146-148. The circular
+  // autocorrelation also shows their end at 384 - L = 150-160 px; a cold
+  // start's length is checked through a Hann window, which rejects that
+  // alias (docs/estimator.md, "Building blocks"; measurements: commit
+  // 1f91d30). Frames from 2.1 s on.
   drivers::SimulatorConfig c = run("accel", 2.6);
   c.seed = 9;
   const RunScore s = run_and_score(c, ExposureMode::fixed, 2.1);
@@ -101,11 +103,11 @@ TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
 }
 
 TEST(GvsAccuracy, AdaptiveStrobeAt60KmhClosedLoop) {
-  // The single-strobe targets: speed 1 % RMS, direction 0.3 deg RMS
-  // and 1.0 max (speed 1.02 % RMS and direction 0.28 deg before the streak
-  // length's window and coarse-texture corrections; 0.54 % and 0.18 deg
-  // after). Speed on >= 95 % of frames here (99 % is measured over longer
-  // runs in docs/accuracy.md), never off by 5 %, no sign error.
+  // The single-strobe targets: speed 1 % RMS, direction 0.3 deg RMS and
+  // 1.0 max, met through the streak length's spectral weighting and window
+  // correction (docs/accuracy.md, `sine` adaptive: 0.49 %, 0.118 deg RMS).
+  // Speed on >= 95 % of frames in this short run (99.8 % over the longer
+  // runs there), never off by 5 %, no sign error.
   const RunScore s = run_and_score(run("sine", 1.7), ExposureMode::adaptive, 0.2);
   print_score("sine adaptive 1.7 s", s);
   const BandScore& b = band(s, 3);
@@ -132,8 +134,9 @@ TEST(GvsAccuracy, FixedExposureAt60KmhGivesDirectionAndNoFalseSpeed) {
 
 TEST(GvsAccuracy, FixedExposureOnTheSkidpadKeepsTheDirectionToATenth) {
   // 3 ms on the skidpad (~30 km/h, turning): 250 px streaks, the axis from
-  // the spectrum's line. 0.13 deg RMS, max 0.52 over 8 s before the line was
-  // weighted towards high |k| (docs/estimator.md).
+  // the spectrum's line weighted towards high |k|, where the coarse stones
+  // do not turn it (docs/estimator.md, "Streak axis: weight of the line";
+  // `skidpad fixed normal`, seed 1: 0.025 deg RMS, max 0.086).
   const RunScore s = run_and_score(run("skidpad", 2.0), ExposureMode::fixed);
   print_score("skidpad fixed 2 s", s);
   const BandScore& b = band(s, 2);
@@ -156,11 +159,12 @@ TEST(GvsAccuracy, OverExposedFramesKeepTheDirection) {
 
 TEST(GvsAccuracy, OverExposedSpinHasNoFalseStreakEnd) {
   // Reversing at 1.5 m/s under 3 ms, 15 % of pixels saturated: the texture
-  // grain gave a second "streak end" at 29-31 px beside the true 45 px, as
-  // deep, and it was taken twice (speed 36 % low at quality 0.8). With a
-  // recent speed, of two ends nearly as deep the one nearer to it wins.
+  // grain makes a second "streak end" at 29-31 px beside the true 45 px, as
+  // deep. With a recent speed, of two ends nearly as deep the one nearer to
+  // it must win (docs/estimator.md, "Measures against false answers";
+  // measurements: commit 85342bd).
   drivers::SimulatorConfig c = run("spin", 4.5, drivers::LightLevel::over);
-  c.seed = 1;  // the seed of docs/estimator.md, where it was seen
+  c.seed = 1;  // docs/estimator.md's seed
   const RunScore s = run_and_score(c, ExposureMode::fixed);
   print_score("spin fixed over-exposed 4.5 s", s);
   const BandScore& b = band(s, 1);  // 5-15 km/h
@@ -172,11 +176,12 @@ TEST(GvsAccuracy, OverExposedSpinHasNoFalseStreakEnd) {
 
 TEST(GvsAccuracy, OverExposedAdaptiveSpinKeepsTheSpeedToOnePercent) {
   // Braking and reversing with a single strobe, 15 % of pixels saturated:
-  // streaks let shrink to 25-30 px read 2.5 % short on average there, and
-  // one frame came out 6.7 % slow at quality 0.54 (seed 1). The controller
-  // now re-plans below 40 px.
+  // streaks under 40 px read short (20-30 px: 2.5 % on average), so the
+  // controller re-plans below 40 px (min_streak_px). Seed 1: speed 0.99 /
+  // 0.92 % RMS at 5-15 / 15-60 km/h (docs/estimator.md, "Short streaks,
+  // faint streaks"; measurements: commit 525e81e).
   drivers::SimulatorConfig c = run("spin", 5.0, drivers::LightLevel::over);
-  c.seed = 1;  // the seed of docs/estimator.md, where it was seen
+  c.seed = 1;  // docs/estimator.md's seed
   const RunScore s = run_and_score(c, ExposureMode::adaptive);
   print_score("spin adaptive over-exposed 5 s", s);
   for (const int i : {1, 2}) {  // 5-15 and 15-60 km/h
@@ -191,11 +196,10 @@ TEST(GvsAccuracy, OverExposedAdaptiveSpinKeepsTheSpeedToOnePercent) {
 
 TEST(GvsAccuracy, UnderExposedFramesKeepTheDirection) {
   // Mean grey ~10 and 500 px streaks: the texture averages down to tenths of
-  // a grey level, below the sensor's own pixel offsets. Until the pixel
-  // pattern was learnt and taken out, such frames gave no direction
-  // ("no-texture" on 98 % of them, docs/estimator.md, "Dark frames"). The
-  // first 0.1 s are excluded: a cold start in the dark gives no direction
-  // for three frames, until the pattern is learnt from two.
+  // a grey level, below the sensor's own pixel offsets, so the direction
+  // needs that pixel pattern learnt and taken out (docs/estimator.md, "Dark
+  // frames"). The first 0.1 s are excluded: a cold start in the dark gives
+  // no direction on its first three frames, while the pattern is learnt.
   const RunScore s = run_and_score(run("sine", 1.6, drivers::LightLevel::under), ExposureMode::fixed, 0.1);
   print_score("sine fixed under-exposed 1.6 s", s);
   const BandScore& b = band(s, 3);
@@ -207,10 +211,10 @@ TEST(GvsAccuracy, UnderExposedFramesKeepTheDirection) {
 
 TEST(GvsAccuracy, UnderExposedAt2KmhPairsOfFramesHold) {
   // 110 px between frames, 20 px streaks, in the dark: the sensor's pixel
-  // offsets, the same in both frames, outweighed the texture in most of the
-  // pair's spectrum bins; with them in, the pair's quality fell below 0.3 and
-  // 20 px single-frame streaks took over: a direction on 38 % of the frames
-  // (0.70 deg RMS, max 2.0), no speed.
+  // offsets, the same in both frames, outweigh the texture in most of the
+  // pair's spectrum bins, so the pair takes them out of both frames
+  // (docs/estimator.md, "Dark frames": 0.035 deg RMS, speed 0.32 % RMS;
+  // measurements: commit 94b4da9).
   const RunScore s =
       run_constant_velocity(-0.26, 0.6, 1.5, drivers::LightLevel::under, ExposureMode::fixed, 0.2);
   print_score("2.4 km/h fixed under-exposed 1.5 s", s);
@@ -224,8 +228,8 @@ TEST(GvsAccuracy, UnderExposedAt2KmhPairsOfFramesHold) {
 TEST(GvsAccuracy, UnderExposedCrawlKeepsPairsThroughTurnsAndBraking) {
   // The whole `crawl` in the dark: up to 4 m/s^2 and 190 deg/s of turning
   // of the direction at 0.5-0.9 m/s, where pairs give way to single frames
-  // and back. Before the dark pairs (this seed): direction on 98.3 % of
-  // the 0.5-5 km/h frames, 0.37 deg RMS, max 4.0 deg, speed on 97.3 %.
+  // and back; the dark pairs must hold through both (docs/estimator.md,
+  // `crawl fixed under`, seed 1: 0.5-5 km/h 0.148 deg RMS, max 0.67).
   const RunScore s = run_and_score(run("crawl", 10.0, drivers::LightLevel::under), ExposureMode::fixed);
   print_score("crawl fixed under-exposed 10 s", s);
   const BandScore& b = band(s, 0);
@@ -237,8 +241,9 @@ TEST(GvsAccuracy, UnderExposedCrawlKeepsPairsThroughTurnsAndBraking) {
 
 TEST(GvsAccuracy, UnderExposedAt10KmhTheLineGivesTheDirection) {
   // 83 px streaks in the dark: the streak end's lag, read through the noise
-  // of the whole spectrum, gave the axis to 0.37 deg RMS here (max 0.98);
-  // the spectral line, refined with its ring gain, gives 0.10 (max 0.26).
+  // of the whole spectrum, scatters 0.35-0.5 deg; the spectral line, refined
+  // with its ring gain, 0.1-0.2, so the line gives the axis
+  // (docs/estimator.md, "Dark frames"; measurements: commit fe69b64).
   const RunScore s =
       run_constant_velocity(2.74, 0.48, 1.5, drivers::LightLevel::under, ExposureMode::fixed, 0.2);
   print_score("10 km/h fixed under-exposed 1.5 s", s);
@@ -252,10 +257,9 @@ TEST(GvsAccuracy, UnderExposedAt10KmhTheLineGivesTheDirection) {
 
 TEST(GvsAccuracy, UnderExposedAdaptiveStrobeKeepsTheDirection) {
   // A short single strobe in the dark holds too little light for a streak
-  // length (texture SNR < 4): the controller now takes the longest exposure
-  // there, whose long streaks keep the direction. Before, it shortened the
-  // strobe and lost it (`const adaptive under`: direction on 51-84 % of the
-  // frames above 15 km/h, 0.5-0.9 deg RMS).
+  // length (texture SNR < 4), and a shorter one only loses more: the
+  // controller takes the longest exposure there, whose long streaks keep the
+  // direction (docs/estimator.md, "Dark frames"; measurements: commit 07e4dd2).
   const RunScore s =
       run_constant_velocity(27.2, 4.8, 1.5, drivers::LightLevel::under, ExposureMode::adaptive, 0.2);
   print_score("100 km/h adaptive under-exposed 1.5 s", s);
@@ -268,9 +272,9 @@ TEST(GvsAccuracy, UnderExposedAdaptiveStrobeKeepsTheDirection) {
 
 TEST(GvsAccuracy, UnderExposedLongStreaksGiveNoShortSpeed) {
   // Accelerating through 15-20 km/h in the dark with 3 ms: 140-160 px
-  // streaks, whose end the noise can move. They gave speeds 13 and 17 %
-  // slow at quality 0.37-0.45 in this seed (the 10-seed Monte Carlo); a dark
-  // frame now gives a speed from streaks up to 100 px only.
+  // streaks, whose end the noise moves (dark ends of 107-162 px read 5-25 %
+  // short), so a dark frame gives a speed from streaks up to 100 px only
+  // (docs/estimator.md, "Dark frames"; measurements: commit 944efc3).
   drivers::SimulatorConfig c = run("accel", 2.3, drivers::LightLevel::under);
   c.seed = 6;
   const RunScore s = run_and_score(c, ExposureMode::fixed);
@@ -283,10 +287,9 @@ TEST(GvsAccuracy, UnderExposedLongStreaksGiveNoShortSpeed) {
 
 TEST(GvsAccuracy, UnderExposedDoublePulseAt60Kmh) {
   // Two short pulses in the dark: the double image shows above the noise
-  // only with the pixel pattern taken out (displacement on 56 % of frames at
-  // 60-140 km/h before, `const double-pulse under`, seed 1), and clearly
-  // only with pulses lengthened to bring the texture SNR to ~3: this cold
-  // start gave 0.25 deg RMS, max 1.2, with 2 px pulses; 0.08 / 0.32 now.
+  // only with the pixel pattern taken out and the pulses lengthened to bring
+  // the texture SNR to ~3 (docs/estimator.md, "Dark frames"). 10 seeds:
+  // 0.069 deg RMS, max 0.43 (docs/accuracy.md, `sine` double-pulse under).
   const RunScore s =
       run_and_score(run("sine", 1.7, drivers::LightLevel::under), ExposureMode::double_pulse, 0.2);
   print_score("sine double-pulse under-exposed 1.7 s", s);
@@ -302,11 +305,11 @@ TEST(GvsAccuracy, UnderExposedDoublePulseAt60Kmh) {
 }
 
 TEST(GvsAccuracy, UnderExposedDoublePulseAt160KmhLengthensThePulses) {
-  // Two 2 px pulses in the dark at 160 km/h leave a texture SNR of 0.5-1:
-  // the double image was found on about half of the frames, 1-1.6 deg RMS
-  // (`const double-pulse under`, 140-250 km/h). The exposure controller now
-  // lengthens the pulses on such frames (up to 6 px of streak each) until
-  // the SNR would reach 3. Cold start: the first 0.3 s are excluded.
+  // Two 2 px pulses in the dark at 160 km/h leave a texture SNR of 0.5-1,
+  // too little to find the double image reliably: the exposure controller
+  // lengthens the pulses on such frames (up to 6 px of streak each) to bring
+  // the SNR to 3 (docs/estimator.md, "Exposure control"; measurements:
+  // commit fe69b64). Cold start: the first 0.3 s are excluded.
   const RunScore s =
       run_constant_velocity(44.0, 3.9, 1.6, drivers::LightLevel::under, ExposureMode::double_pulse, 0.3);
   print_score("160 km/h double-pulse under-exposed 1.6 s", s);

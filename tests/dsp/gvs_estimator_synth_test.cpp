@@ -277,9 +277,9 @@ TEST(GvsEstimator, OnlyTheSensorsFixedPatternIsNotAStandstill) {
 TEST(GvsEstimator, DarkFramesAtSpeedGiveTheDirectionOnceThePatternIsLearnt) {
   // Under-exposed at 60 km/h: streaks of most of the frame leave a texture
   // of a few tenths of a grey level, below the sensor's fixed pattern (2 grey
-  // levels per pixel, the same in every frame). Without the pattern the
-  // spectrum shows little but it; once it is learnt from a few frames of
-  // moving ground, the direction comes back. (A 256 x 192 frame and a 1 ms
+  // levels per pixel, the same in every frame). With the pattern in, the
+  // spectrum shows little but it; learnt from a few frames of moving ground
+  // and taken out, it leaves the direction. (A 256 x 192 frame and a 1 ms
   // exposure, 167 px streaks: the synthetic renderer's cost grows with both.)
   SynthRun run;
   run.cam.width_px = 256;
@@ -315,8 +315,8 @@ TEST(GvsEstimator, DarkFramesAtSpeedGiveTheDirectionOnceThePatternIsLearnt) {
 TEST(GvsEstimator, AStreakTooShortForADirectionGivesNone) {
   // 25 m/s under a 12 us strobe: a 3 px streak. Frames do not overlap, so one
   // frame must carry the answer, and its spectrum is barely elongated: no
-  // direction (quality 0, "short-streak"). (With the earlier threshold, 0.12,
-  // this gave "blur-fwd"; on asphalt such frames were off by 4-60 deg.)
+  // direction (quality 0, "short-streak"): on asphalt, streaks of 1-9 px
+  // read 6-25 deg off (docs/estimator.md, "Short streaks, faint streaks").
   SynthRun run;
   run.v_mps = {25.0, 3.0};
   run.exposure.exposure_us = 12.0;
@@ -334,8 +334,9 @@ TEST(GvsEstimator, AStreakTooShortForADirectionGivesNone) {
 TEST(GvsEstimator, AStreakCannotShrinkFromEndlessToShortInOneFrame) {
   // 16.7 m/s under 3 ms: 500 px streaks, too long to measure. A frame that
   // then shows a measurable 44 px streak (1.5 m/s) without a recent speed
-  // would mean -900 m/s^2: refused (no speed), where a texture "streak end"
-  // once passed every other test (docs/estimator.md, `sine` seed 4).
+  // would mean -900 m/s^2: refused (no speed), as the texture's own grain
+  // can make a "streak end" that passes every other test (docs/estimator.md,
+  // "Measures against false answers"; measurements: commit 2a98d05).
   SynthRun fast;
   fast.v_mps = {16.7, 0.0};
   fast.exposure.exposure_us = 3000.0;

@@ -91,7 +91,7 @@ TEST(ExposureControl, AdaptiveInTheDarkTakesTheLongestExposure) {
   dark_long.texture_snr = 6.0;  // dim: held, not shortened 4x
   EXPECT_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
             lim.max_exposure_us);
-  dark_long.texture_snr = 30.0;  // bright: shortened as before
+  dark_long.texture_snr = 30.0;  // bright: shortened 4x as in normal light
   EXPECT_DOUBLE_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
                    750.0);
   // Not measured (0, e.g. a pair): the rule does not apply.
@@ -112,8 +112,9 @@ TEST(ExposureControl, AdaptiveLengthensWhenTheStreakIsTooShortForADirection) {
 }
 
 TEST(ExposureControl, AdaptiveHoldsOnOneTooLongStreakWhileTrackingASpeed) {
-  // A streak in the band (70 px at 31.8 m/s and 220 us) read once as "too
-  // long" while the last frames measured the speed: a miss, not a change.
+  // A streak in the band (70 px at 31.8 m/s and 220 us) read as "too long"
+  // on one frame while the last frames measured the speed: a miss, not a
+  // change.
   VelocityEstimate miss = direction_only(Method::streak_cont);
   miss.tracking = true;
   EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 220.0);
@@ -121,10 +122,10 @@ TEST(ExposureControl, AdaptiveHoldsOnOneTooLongStreakWhileTrackingASpeed) {
   EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 55.0);
 }
 
-// The lock-up seen in gvsd (docs/accuracy.md): after 3000 -> 750 us the
-// estimator gave a direction without speed ("blur-*": the start-up test for a
-// streak end not met) and the plan stayed at 750 us for good. Now every
-// octave is visited, then the sweep starts again from the longest exposure.
+// Frames that move but give no speed (e.g. "blur-*": a cold start's test
+// for a streak end not met) must not hold any exposure for good: every
+// octave is visited, then the sweep starts again from the longest exposure
+// (docs/accuracy.md, "No lock-up without a speed").
 TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
   const ExposureLimits lim;
   ExposurePlan plan = continuous_us(750.0);
@@ -157,14 +158,14 @@ TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
 }
 
 // gvsd measures a frame while the next ones are already exposed under the
-// plan before: steps start from the measured frame's light time, so such a
+// current plan: steps start from the measured frame's light time, so such a
 // frame repeats the plan already made instead of stepping twice.
 TEST(ExposureControl, FramesInFlightDoNotStepTwice) {
   const ExposureLimits lim;
   const ExposurePlan frame = continuous_us(750.0);
   const ExposurePlan current = next_exposure(direction_only(Method::blur_cont), frame, frame, ExposureMode::adaptive, lim);
   ASSERT_EQ(current.exposure_us, 375.0);
-  // The next frame was still taken at 750 us.
+  // The next frame, still taken at 750 us, repeats the 375 us plan.
   EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), frame, current, ExposureMode::adaptive, lim).exposure_us,
             375.0);
   EXPECT_EQ(next_exposure(direction_only(Method::streak_cont), continuous_us(3000.0), continuous_us(750.0),
@@ -212,7 +213,7 @@ double separation_us(const ExposurePlan& p) {
 
 // A dark double-pulse frame (texture SNR below min_pulse_texture_snr):
 // longer pulses bring more light, up to dark_max_pulse_blur_px of streak
-// each; once they have, the plan holds (the SNR grew with the light), and a
+// each; a frame whose SNR has grown with that light holds the plan, and a
 // bright frame brings back the short pulses.
 TEST(ExposureControl, DarkDoublePulseFramesGetLongerPulses) {
   const ExposureLimits lim;
