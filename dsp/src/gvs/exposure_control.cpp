@@ -68,7 +68,7 @@ bool is_still(const VelocityEstimate& e) {
 double lit_us(const ExposurePlan& p) { return p.pulse_count == 0 ? p.exposure_us : p.lit_time_us(); }
 
 /// Displacement limits scaled to a small frame: the double image can only be
-/// found up to ~0.45 of the shorter side (estimate_double), so the target
+/// found up to ~0.45 of the shorter side (analyse_double_pulse), so the target
 /// keeps 100 px at 384 px and shrinks in proportion below (e.g. 50 px at 192).
 ExposureLimits fitted(const ExposureLimits& lim) {
   ExposureLimits l = lim;

@@ -74,6 +74,12 @@ inline Vec2 velocity_to_image_shift(Vec2 v_veh_mps, double dt_s, const CameraGeo
   return {v_cam.x * dt_s / m_per_px, v_cam.y * dt_s / m_per_px};
 }
 
+/// v / |v|, or (1, 0) for the zero vector.
+inline Vec2 unit_vector(Vec2 v) {
+  const double n = std::hypot(v.x, v.y);
+  return n > 0.0 ? Vec2{v.x / n, v.y / n} : Vec2{1.0, 0.0};
+}
+
 /// Direction of travel, atan2(vy, vx) in degrees, (-180, 180].
 inline double direction_deg(Vec2 v) { return wrap_deg(rad_to_deg(std::atan2(v.y, v.x))); }
 

@@ -1,0 +1,261 @@
+// The "gvs" estimator's tracking state on its own (gvs_tracking.hpp): the
+// rules that carry mode, sign, speed and the previous frame from one frame
+// to the next, and the sensor pattern learnt over frames.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include <opencv2/core.hpp>
+
+#include "gvs/dsp/gvs_tracking.hpp"
+
+namespace gvs::dsp {
+namespace {
+
+constexpr std::int64_t kMs = 1000000;  // ns
+
+/// A memory holding a last estimate of `speed_mps` (quality > 0).
+MotionMemory with_last_speed(double speed_mps, MotionMemory::Mode mode) {
+  MotionMemory m;
+  m.mode = mode;
+  m.last_valid = true;
+  m.last.has_speed = true;
+  m.last.speed_mps = speed_mps;
+  return m;
+}
+
+TEST(GvsTracking, ModeSwitchesOnTheExpectedShiftWithHysteresis) {
+  const GvsEstimatorSettings set;
+  const CameraGeometry cam;  // 0.1 mm/px
+  const double dt_s = 1.0 / 60.0;
+  // Speed that moves the ground by `px` between frames.
+  const auto speed_for = [&](double px) { return px * cam.mm_per_px * 1e-3 / dt_s; };
+  using Mode = MotionMemory::Mode;
+  const double between = 0.5 * (set.pair_enter_shift_px + set.pair_leave_shift_px);
+  EXPECT_EQ(next_mode(with_last_speed(speed_for(between), Mode::pair), dt_s, cam, set), Mode::pair);
+  EXPECT_EQ(next_mode(with_last_speed(speed_for(between), Mode::single), dt_s, cam, set), Mode::single);
+  EXPECT_EQ(next_mode(with_last_speed(speed_for(set.pair_leave_shift_px + 1.0), Mode::pair), dt_s, cam, set),
+            Mode::single);
+  EXPECT_EQ(next_mode(with_last_speed(speed_for(set.pair_enter_shift_px - 1.0), Mode::single), dt_s, cam, set),
+            Mode::pair);
+  // Without a last speed (or a last estimate) the mode stays.
+  MotionMemory no_speed = with_last_speed(100.0, Mode::single);
+  no_speed.last.has_speed = false;
+  EXPECT_EQ(next_mode(no_speed, dt_s, cam, set), Mode::single);
+  MotionMemory invalid = with_last_speed(100.0, Mode::pair);
+  invalid.last_valid = false;
+  EXPECT_EQ(next_mode(invalid, dt_s, cam, set), Mode::pair);
+}
+
+TEST(GvsTracking, SignFollowsTheLastDirectionThenEnergyThenForward) {
+  const GvsEstimatorSettings set;
+  MotionMemory m;
+  m.has_direction = true;
+  m.direction = {-1.0, 0.0};  // reversing
+  m.direction_t_ns = 1000 * kMs;
+  m.sign_known = true;
+  const std::int64_t now = m.direction_t_ns + 17 * kMs;
+
+  // An axis 20 deg off the last direction, either way round: continuity.
+  const Vec2 axis{std::cos(deg_to_rad(20.0)), std::sin(deg_to_rad(20.0))};
+  SignChoice c = choose_sign(m, axis, now, 0.0, set);
+  EXPECT_EQ(c.source, SignSource::continuity);
+  EXPECT_EQ(c.sign, -1.0);
+  EXPECT_TRUE(c.known);
+  m.sign_known = false;  // continuity carries an assumed sign as assumed
+  EXPECT_FALSE(choose_sign(m, axis, now, 0.0, set).known);
+
+  // Turned by 80 deg (not physical between frames), or a direction older
+  // than continuity_max_age_s: the energy vote, else forwards.
+  const Vec2 across{std::cos(deg_to_rad(80.0)), std::sin(deg_to_rad(80.0))};
+  c = choose_sign(m, across, now, -2.0 * set.min_energy_confidence, set);
+  EXPECT_EQ(c.source, SignSource::energy);
+  EXPECT_EQ(c.sign, -1.0);
+  EXPECT_TRUE(c.known);
+  const std::int64_t late = m.direction_t_ns + static_cast<std::int64_t>((set.continuity_max_age_s + 0.01) * 1e9);
+  c = choose_sign(m, axis, late, 0.5 * set.min_energy_confidence, set);
+  EXPECT_EQ(c.source, SignSource::forward);
+  EXPECT_EQ(c.sign, 1.0);  // axis.x > 0
+  EXPECT_FALSE(c.known);
+  EXPECT_EQ(choose_sign(m, {-axis.x, -axis.y}, late, 0.0, set).sign, -1.0);  // -axis flipped: forwards
+
+  EXPECT_GT(sign_quality(SignSource::continuity), sign_quality(SignSource::energy));
+  EXPECT_GT(sign_quality(SignSource::energy), sign_quality(SignSource::forward));
+}
+
+TEST(GvsTracking, ASpeedIsRecentForSpeedMemoryOnly) {
+  const GvsEstimatorSettings set;
+  MotionMemory m;
+  m.speed_t_ns = 5000 * kMs;
+  const auto memory_ns = static_cast<std::int64_t>(set.speed_memory_s * 1e9);
+  EXPECT_FALSE(speed_is_recent(m, m.speed_t_ns + kMs, set));  // no speed yet
+  m.has_speed = true;
+  EXPECT_TRUE(speed_is_recent(m, m.speed_t_ns + kMs, set));
+  EXPECT_TRUE(speed_is_recent(m, m.speed_t_ns + memory_ns, set));
+  EXPECT_FALSE(speed_is_recent(m, m.speed_t_ns + memory_ns + kMs, set));
+  EXPECT_FALSE(speed_is_recent(m, m.speed_t_ns, set));  // the same frame is not "before"
+}
+
+TEST(GvsTracking, PairAndSingleFrameNotes) {
+  MotionMemory m;
+  note_pair(m, true, {1.5, -0.2});
+  EXPECT_TRUE(m.has_pair_v);
+  EXPECT_EQ(m.pair_v_mps.x, 1.5);
+  note_pair(m, false, {9.0, 9.0});
+  EXPECT_FALSE(m.has_pair_v);
+
+  SingleFrameNote note;
+  note.axis_measured = true;
+  note.anisotropy = 0.72;
+  note.dark = true;
+  note_single(m, note, 100 * kMs);
+  EXPECT_EQ(m.last_axis_anisotropy, 0.72);
+  EXPECT_TRUE(m.last_single_dark);
+  EXPECT_FALSE(m.has_speed_floor);
+  // A frame that measured no axis keeps the last anisotropy; too long sets the floor.
+  SingleFrameNote too_long;
+  too_long.too_long = true;
+  too_long.speed_floor_mps = 2.7;
+  note_single(m, too_long, 117 * kMs);
+  EXPECT_EQ(m.last_axis_anisotropy, 0.72);
+  EXPECT_FALSE(m.last_single_dark);
+  EXPECT_TRUE(m.has_speed_floor);
+  EXPECT_EQ(m.speed_floor_mps, 2.7);
+  EXPECT_EQ(m.speed_floor_t_ns, 117 * kMs);
+}
+
+TEST(GvsTracking, UpdateKeepsTheFrameAndWhatTheEstimateMeasured) {
+  const cv::Size size(128, 96);
+  const cv::Size half(80, 96);
+  TrackingState t(size, half);
+  const std::uint8_t* kept_pixels = t.previous.gray.data;
+
+  cv::Mat gray(size, CV_8UC1);
+  cv::randu(gray, 0, 255);
+  FrameView f;
+  f.gray = gray;
+  f.index = 7;
+  f.exposure.exposure_us = 2000.0;
+  HalfSpectra halves;
+  halves.left.create(half, CV_32FC2);
+  halves.right.create(half, CV_32FC2);
+  halves.pattern_out = true;
+  const void* halves_left = halves.left.data;
+
+  VelocityEstimate e = no_estimate(7, 50 * kMs, Method::blur_fwd);
+  e.quality = 0.4;
+  e.has_direction = true;
+  e.direction_deg = 90.0;  // no speed: direction only
+  FrameOutcome outcome;
+  outcome.sign_known = true;
+  outcome.halves = &halves;
+  update_tracking(t, f, 50 * kMs, 80.0, e, outcome);
+
+  EXPECT_TRUE(t.previous.valid);
+  EXPECT_EQ(t.previous.gray.data, kept_pixels);  // copied into the buffer made once
+  EXPECT_EQ(cv::norm(t.previous.gray, gray, cv::NORM_INF), 0.0);
+  EXPECT_EQ(t.previous.lit_us, 2000.0);
+  EXPECT_EQ(t.previous.mean_grey, 80.0);
+  EXPECT_EQ(t.previous.t_mid_ns, 50 * kMs);
+  EXPECT_TRUE(t.previous.has_halves);
+  EXPECT_EQ(t.previous.halves.left.data, halves_left);  // swapped in, not copied
+  EXPECT_TRUE(t.previous.halves.pattern_out);
+  EXPECT_TRUE(t.motion.last_valid);
+  EXPECT_FALSE(t.motion.has_speed);
+  ASSERT_TRUE(t.motion.has_direction);
+  EXPECT_NEAR(t.motion.direction.y, 1.0, 1e-12);
+  EXPECT_TRUE(t.motion.sign_known);
+
+  // An estimate of quality 0 neither teaches a speed nor a direction.
+  VelocityEstimate none = no_estimate(8, 67 * kMs, Method::no_match);
+  none.has_speed = true;
+  none.speed_mps = 3.0;
+  f.index = 8;
+  update_tracking(t, f, 67 * kMs, 80.0, none, FrameOutcome{});
+  EXPECT_FALSE(t.motion.last_valid);
+  EXPECT_FALSE(t.motion.has_speed);
+  EXPECT_EQ(t.motion.direction_t_ns, 50 * kMs);
+  EXPECT_FALSE(t.previous.has_halves);
+
+  VelocityEstimate fast = no_estimate(9, 84 * kMs, Method::blur_cont);
+  fast.quality = 0.9;
+  fast.has_speed = true;
+  fast.speed_mps = 12.0;
+  update_tracking(t, f, 84 * kMs, 80.0, fast, FrameOutcome{});
+  EXPECT_TRUE(t.motion.has_speed);
+  EXPECT_EQ(t.motion.speed_mps, 12.0);
+  EXPECT_EQ(t.motion.speed_index, 9);
+  EXPECT_EQ(t.motion.speed_t_ns, 84 * kMs);
+}
+
+TEST(GvsTracking, AnUnusableFrameBreaksThePairsAndResetForgetsAll) {
+  TrackingState t(cv::Size(64, 64), cv::Size(40, 64));
+  t.previous.valid = true;
+  t.previous.has_halves = true;
+  t.motion.has_pair_v = true;
+  t.motion.last_valid = true;
+  t.motion.has_speed = true;
+  t.motion.has_direction = true;
+  note_unusable_frame(t, no_estimate(3, 0, Method::dark));
+  EXPECT_FALSE(t.previous.valid || t.previous.has_halves || t.motion.has_pair_v || t.motion.last_valid);
+  EXPECT_EQ(t.motion.last.method, Method::dark);
+  EXPECT_TRUE(t.motion.has_speed && t.motion.has_direction);  // still known, by their time
+
+  cv::Mat frame(64, 64, CV_8UC1, cv::Scalar(50));
+  for (int i = 0; i < 20; ++i) t.pattern.learn_columns(frame, 40.0);
+  t.pattern.learn_pixels(frame, 40.0);
+  t.motion.mode = MotionMemory::Mode::single;
+  t.motion.last_axis_anisotropy = 0.5;
+  forget_tracking(t);
+  EXPECT_FALSE(t.motion.has_speed || t.motion.has_direction || t.motion.has_speed_floor);
+  EXPECT_EQ(t.motion.mode, MotionMemory::Mode::pair);
+  EXPECT_EQ(t.pattern.columns(), nullptr);
+  EXPECT_EQ(t.pattern.pixel_frames(), 0);
+  EXPECT_EQ(cv::norm(t.pattern.pixels(), cv::NORM_INF), 0.0);
+  EXPECT_EQ(t.motion.last_axis_anisotropy, 0.5);
+}
+
+TEST(SensorPattern, LearnsTheColumnAndPixelOffsetsFromMovingGround) {
+  const cv::Size size(160, 120);
+  SensorPattern p(size);
+  // The sensor's offsets: per column (+-3 grey levels) and per pixel (+-2).
+  cv::Mat column_offsets(1, size.width, CV_32F);
+  cv::Mat pixel_offsets(size, CV_32F);
+  cv::RNG rng(5);
+  rng.fill(column_offsets, cv::RNG::UNIFORM, -3.0, 3.0);
+  rng.fill(pixel_offsets, cv::RNG::UNIFORM, -2.0, 2.0);
+  const cv::Mat sensor = cv::repeat(column_offsets, size.height, 1) + pixel_offsets;
+  for (int i = 0; i < 100; ++i) {
+    if (i == SensorPattern::kColumnMinFrames - 1) {
+      EXPECT_EQ(p.columns(), nullptr);
+    }
+    // New ground every frame: texture of 4 grey levels RMS around 100.
+    cv::Mat ground(size, CV_32F);
+    rng.fill(ground, cv::RNG::NORMAL, 100.0, 4.0);
+    cv::Mat gray;
+    cv::Mat(ground + sensor).convertTo(gray, CV_8U);
+    const double mean_grey = cv::mean(gray)[0];
+    p.learn_columns(gray, mean_grey);
+    p.learn_pixels(gray, mean_grey);
+  }
+  ASSERT_NE(p.columns(), nullptr);
+  EXPECT_EQ(p.pixel_frames(), 100);
+  const cv::Scalar column_mean = cv::mean(column_offsets);
+  double column_err_sq = 0.0;
+  for (int c = 0; c < size.width; ++c) {
+    const double truth = static_cast<double>(column_offsets.at<float>(0, c)) - column_mean[0] + cv::mean(pixel_offsets.col(c))[0] -
+                         cv::mean(pixel_offsets)[0];
+    column_err_sq += std::pow(static_cast<double>(p.columns()[c]) - truth, 2);
+  }
+  // Texture of 4 grey levels averaged over 120 rows x 50-100 frames: ~0.05 left.
+  EXPECT_LT(std::sqrt(column_err_sq / size.width), 0.2);
+  cv::Mat expected = sensor - cv::mean(sensor)[0];
+  // Per pixel, 4 grey levels averaged over 100 frames: ~0.4 left, against ~2.1 RMS of offsets.
+  const double err_rms = cv::norm(p.pixels(), expected, cv::NORM_L2) / std::sqrt(size.area());
+  const double offsets_rms = cv::norm(expected, cv::NORM_L2) / std::sqrt(size.area());
+  EXPECT_LT(err_rms, 0.5 * offsets_rms);
+}
+
+}  // namespace
+}  // namespace gvs::dsp
