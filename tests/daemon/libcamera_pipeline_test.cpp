@@ -21,7 +21,7 @@ namespace {
 /// 10 m/s at 2 deg for every good frame (the camera path is under test, not the estimator).
 class ConstantEstimator final : public FrameEstimator {
  public:
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
     if (slot.defect != nullptr) return dsp::no_estimate(slot.view.index, mid_ns, slot.defect);
     dsp::VelocityEstimate e;

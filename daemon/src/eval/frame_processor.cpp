@@ -19,7 +19,7 @@ dsp::VelocityEstimate FrameProcessor::reject(const dsp::FrameView& frame, const 
   return dsp::no_estimate(frame.index, mid_t_ns, reason);
 }
 
-dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) noexcept {
+dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) {
   const dsp::CameraGeometry& cam = config_.estimator.camera;
   const std::int64_t mid_t_ns =
       frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
