@@ -22,7 +22,7 @@ namespace {
 class ConstantEstimator final : public FrameEstimator {
  public:
   dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
-    const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
+    const std::int64_t mid_ns = dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
     if (slot.defect != nullptr) return dsp::no_estimate(slot.view.index, mid_ns, slot.defect);
     dsp::VelocityEstimate e;
     e.index = slot.view.index;

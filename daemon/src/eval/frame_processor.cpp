@@ -14,15 +14,13 @@ void FrameProcessor::reset() noexcept {
 
 dsp::VelocityEstimate FrameProcessor::reject(const dsp::FrameView& frame, const char* reason) noexcept {
   ++rejects_.unreadable;
-  const std::int64_t mid_t_ns =
-      frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
+  const std::int64_t mid_t_ns = dsp::mid_exposure_ns(frame.t_ns, frame.exposure);
   return dsp::no_estimate(frame.index, mid_t_ns, reason);
 }
 
 dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) {
   const dsp::CameraGeometry& cam = config_.estimator.camera;
-  const std::int64_t mid_t_ns =
-      frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
+  const std::int64_t mid_t_ns = dsp::mid_exposure_ns(frame.t_ns, frame.exposure);
   if (frame.gray.empty() || frame.gray.type() != CV_8UC1 || frame.gray.cols != cam.width_px ||
       frame.gray.rows != cam.height_px) {
     ++rejects_.wrong_size;

@@ -33,7 +33,7 @@ class DspEstimator final : public FrameEstimator {
 class TruthEstimator final : public FrameEstimator {
  public:
   dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
-    const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
+    const std::int64_t mid_ns = dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
     if (!slot.truth.known) return dsp::no_estimate(slot.view.index, mid_ns, "none");
     dsp::VelocityEstimate e;
     e.index = slot.view.index;
@@ -66,9 +66,8 @@ dsp::VelocityEstimate FrameEstimator::estimate(const FrameSlot& slot) noexcept {
   }
   ++exceptions_;
   reset();
-  const std::int64_t mid_ns =
-      slot.view.t_ns + static_cast<std::int64_t>(std::llround(slot.view.exposure.light_centre_us() * 1000.0));
-  return dsp::no_estimate(slot.view.index, mid_ns, "estimator-exception");
+  return dsp::no_estimate(slot.view.index, dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure),
+                          "estimator-exception");
 }
 
 std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,

@@ -111,8 +111,8 @@ void GvsEstimator::reset() {
 }
 
 VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
-  // The estimate refers to the middle of the light: t + light_centre.
-  const auto t_mid = frame.t_ns + std::llround(frame.exposure.light_centre_us() * 1000.0);
+  // The estimate refers to the middle of the light.
+  const std::int64_t t_mid = mid_exposure_ns(frame.t_ns, frame.exposure);
   halves_this_frame_ = false;
   sign_known_now_ = false;
   single_frame_tried_ = false;
