@@ -16,6 +16,7 @@
 #include "gvs/daemon/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvsd_test_support.hpp"
+#include "steady_camera.hpp"
 
 namespace gvs::daemon {
 namespace {
@@ -84,47 +85,14 @@ TEST(EstimatorException, AnyStdExceptionIsCaught) {
   EXPECT_EQ(est.estimator_exceptions(), 1u);
 }
 
-/// A camera at 100 fps that delivers frames of a car at 10 m/s until stopped.
-class SteadyCamera final : public FrameSource {
- public:
-  std::string describe() const override { return "steady"; }
-  dsp::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
-  double nominal_fps() const override { return 100.0; }
-  void prepare(FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
-  SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
-    if (base_ns_ < 0) base_ns_ = mono_now_ns();
-    const std::int64_t due = base_ns_ + (index_ + 1) * kPeriodNs;
-    while (mono_now_ns() < due) {
-      if (stop.load()) return SourceStatus::stopped;
-      sleep_until_ns(std::min(due, mono_now_ns() + 5 * kNsPerMs));
-    }
-    slot.view.index = index_++;
-    slot.view.t_ns = due - kNsPerMs;
-    slot.view.exposure.exposure_us = 1000.0;
-    slot.truth = FrameTruth{true, 10.0, 0.0, 10.0, 0.0, 0.0};
-    return SourceStatus::frame;
-  }
-  void set_exposure(const dsp::ExposurePlan&) noexcept override {}
-  bool controls_exposure() const override { return false; }
-
- private:
-  static constexpr std::int64_t kPeriodNs = 10 * kNsPerMs;
-  std::int64_t index_ = 0;
-  std::int64_t base_ns_ = -1;
-};
-
 TEST(EstimatorException, PipelineKeepsRunningAndCountsTheFailures) {
   const std::string log = (std::filesystem::temp_directory_path() /
                            ("gvsd_estimator_exception_" + std::to_string(getpid()) + ".log")).string();
-  DaemonConfig c;
-  c.capture_thread.priority = 0;  // the tests must not take the shared machine's CPUs
-  c.processing_thread.priority = 0;
-  c.sender_thread.priority = 0;
-  c.prefault_stack_kb = 64;
+  const DaemonConfig c = testing::unprivileged_config();
   // Frames 10..14 throw: without the catch, std::terminate ends the test program here.
   auto estimator = std::make_unique<ThrowingEstimator>(10, 14, -1);
   const ThrowingEstimator* est = estimator.get();
-  Pipeline p(c, std::make_unique<SteadyCamera>(), std::move(estimator), can::open_sink("candump:" + log));
+  Pipeline p(c, std::make_unique<testing::SteadyCamera>(), std::move(estimator), can::open_sink("candump:" + log));
   p.start();
   const std::int64_t t0 = mono_now_ns();
   while (p.latest().estimate.index < 40 && mono_now_ns() - t0 < 10 * kNsPerS) {

@@ -43,7 +43,7 @@ Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<FrameSource> sour
       source_(std::move(source)),
       estimator_(std::move(estimator)),
       sink_(std::move(sink)),
-      light_(drivers::make_strobe_driver(config.light)),
+      light_(hooks.make_light ? hooks.make_light(config.light) : drivers::make_strobe_driver(config.light)),
       hooks_(std::move(hooks)),
       ring_(make_slots(config.ring_slots)),
       encoder_(encoder_config(config)),
