@@ -85,6 +85,7 @@ void Pipeline::apply_reloadable(const DaemonConfig& c) noexcept {
     s.mode = dsp::ExposureMode::adaptive;
   s.limits = dsp::exposure_limits_for(source_->geometry(), source_->nominal_fps());
   s.limits.max_exposure_us = c.exposure_max_us;
+  source_->set_exposure_max_us(c.exposure_max_us);
   s.limits.min_pulse_us = c.exposure_min_pulse_us;
   // A camera without a strobe cannot expose shorter than its own floor: the
   // controller's sweep must turn round there, not below it.
