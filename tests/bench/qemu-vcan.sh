@@ -8,9 +8,10 @@
 # fetched with apt-get download into the cache) with a busybox initramfs that
 # loads the CAN and 9p modules, creates and raises vcan0, mounts the host's
 # root read-only over 9p and runs COMMAND chrooted into it (same paths, same
-# libraries, the host's current directory). /tmp in the guest is a fresh
-# tmpfs; $GVS_BENCH_OUT (a per-run folder under the cache) is writable and
-# shared with the host. COMMAND's output appears on this script's stdout;
+# libraries, the host's current directory). /tmp in the guest is the host's
+# /tmp under a tmpfs overlay (a checkout or cache under /tmp stays visible;
+# the guest's writes stay in the guest); $GVS_BENCH_OUT (a per-run folder
+# under the cache) is writable and shared with the host. COMMAND's output appears on this script's stdout;
 # the script exits with COMMAND's exit code.
 #
 # --systemd boots systemd as PID 1 instead: the host root (read-only 9p)
@@ -187,8 +188,11 @@ if [ -n "$SYSTEMD" ]; then
   mount -t overlay overlay -o lowerdir=/host,upperdir=/overlay/upper,workdir=/overlay/work /newroot ||
     fail "cannot mount the overlay root"
   mount -t 9p -o trans=virtio,version=9p2000.L gvsrun "/newroot$RUN" || fail "cannot mount the run folder"
-  # A fresh /tmp: systemd-tmpfiles would otherwise walk the host's /tmp over 9p.
-  mount -t tmpfs tmp /newroot/tmp
+  # /tmp stays the overlay's view of the host's /tmp (the run folder or the
+  # whole checkout may be under it); tmp.conf masked so systemd-tmpfiles
+  # does not empty it at boot.
+  mkdir -p /newroot/etc/tmpfiles.d
+  : > /newroot/etc/tmpfiles.d/tmp.conf
   U=/newroot/etc/systemd/system
   mkdir -p "$U"
   printf '%s\n' '[Unit]' 'Description=gvs bench target' 'Requires=basic.target gvs-bench.service' \
@@ -199,9 +203,15 @@ if [ -n "$SYSTEMD" ]; then
   umount /proc /sys 2>/dev/null; umount /dev 2>/dev/null
   exec switch_root /newroot /lib/systemd/systemd systemd.unit=gvs-bench.target
 fi
+# /tmp before the run folder, which may be under it: the host's /tmp (the
+# checkout may be there) under a tmpfs overlay, so the guest can write.
+mkdir -p /tmpover
+mount -t tmpfs -o mode=0755 tmpover /tmpover
+mkdir -p /tmpover/upper /tmpover/work; chmod 1777 /tmpover/upper
+mount -t overlay overlay -o lowerdir=/host/tmp,upperdir=/tmpover/upper,workdir=/tmpover/work /host/tmp ||
+  fail "cannot mount the /tmp overlay"
 mount -t 9p -o trans=virtio,version=9p2000.L gvsrun "/host$RUN" || fail "cannot mount the run folder"
 mount -t proc proc /host/proc; mount -t sysfs sys /host/sys; mount -t devtmpfs dev /host/dev
-mount -t tmpfs tmp /host/tmp
 echo "gvs-bench: guest up, vcan0 ready"
 chroot /host /bin/sh "$RUN/cmd.sh" < /dev/console > /dev/console 2>&1
 echo $? > "/host$RUN/rc"

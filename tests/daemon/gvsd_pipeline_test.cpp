@@ -71,7 +71,7 @@ class ScriptedCamera final : public FrameSource {
 class SlowEstimator final : public FrameEstimator {
  public:
   explicit SlowEstimator(int delay_ms) : delay_ms_(delay_ms), inner_(make_frame_estimator("truth", {})) {}
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     sleep_until_ns(mono_now_ns() + delay_ms_ * kNsPerMs);
     return inner_->estimate(slot);
   }
@@ -89,7 +89,7 @@ class DoctoredTruth final : public FrameEstimator {
  public:
   DoctoredTruth(double quality, std::int64_t outlier_from, std::int64_t outlier_to)
       : quality_(quality), from_(outlier_from), to_(outlier_to), inner_(make_frame_estimator("truth", {})) {}
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     dsp::VelocityEstimate e = inner_->estimate(slot);
     e.quality = quality_;
     if (slot.view.index >= from_ && slot.view.index <= to_) {

@@ -21,8 +21,8 @@ namespace {
 /// 10 m/s at 2 deg for every good frame (the camera path is under test, not the estimator).
 class ConstantEstimator final : public FrameEstimator {
  public:
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
-    const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
+  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+    const std::int64_t mid_ns = dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
     if (slot.defect) return dsp::no_estimate(slot.view.index, mid_ns, reject_method(*slot.defect));
     dsp::VelocityEstimate e;
     e.index = slot.view.index;
@@ -104,6 +104,39 @@ TEST(LibcameraPipeline, UnpluggedCameraGoesOutInvalidWithCameraFaultThenRecovers
   EXPECT_GE(h.restarts, 1u);  // more only if a starved machine made the camera look silent
   EXPECT_LE(h.restarts, 3u);
   EXPECT_GT(p.counters().source_errors.load(), 3u) << "the capture thread counts the missing frames";
+}
+
+TEST(LibcameraPipeline, ReloadedExposureMaxReachesTheCamera) {
+  const std::string log = (std::filesystem::temp_directory_path() /
+                           ("gvs_libcamera_reload_" + std::to_string(getpid()) + ".log")).string();
+  DaemonConfig c;
+  c.capture_thread.priority = 0;
+  c.processing_thread.priority = 0;
+  c.sender_thread.priority = 0;
+  c.prefault_stack_kb = 64;
+  c.exposure_mode = "fixed";  // the plan never changes: only the reload can move the camera
+  c.exposure_initial_us = 2800.0;
+  c.exposure_max_us = 2000.0;
+  auto cam = std::make_shared<testing::FakeCamera>();
+  LibcameraSettings s;
+  s.camera = {64, 48, 0.1, 0.0};
+  s.fps = cam->fps;
+  s.exposure_initial_us = c.exposure_initial_us;
+  s.exposure_max_us = c.exposure_max_us;
+  Pipeline p(c, std::make_unique<LibcameraSource>(std::make_unique<testing::FakeCameraDevice>(cam), s),
+             std::make_unique<ConstantEstimator>(), can::open_sink("candump:" + log));
+  p.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const std::int32_t before_us = cam->seen_controls().exposure_us;
+  c.exposure_max_us = 3000.0;
+  p.apply_reloadable(c);  // what SIGHUP does
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const std::int32_t after_us = cam->seen_controls().exposure_us;
+  p.request_stop();
+  p.join();
+  std::filesystem::remove(log);
+  EXPECT_EQ(before_us, 2000);
+  EXPECT_EQ(after_us, 2800) << "the camera follows the reloaded [exposure] max_us";
 }
 
 }  // namespace

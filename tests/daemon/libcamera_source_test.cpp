@@ -143,6 +143,36 @@ TEST(LibcameraSource, DeliversPixelsTimestampAndTheExposureActuallyApplied) {
   }
 }
 
+TEST(LibcameraSource, ReloadedExposureMaxClampsTheCameraFromTheNextFrames) {
+  LibcameraSettings s = small_settings();  // 50 fps: 0.9 of the period is 18000 us
+  s.exposure_max_us = 2000.0;
+  s.gain_min = 1.0;
+  s.gain_max = 8.0;
+  Rig rig(s);
+  dsp::ExposurePlan plan;
+  plan.exposure_us = 2800.0;  // 200 whole 14 us lines: the fake applies it as asked
+  rig.source->set_exposure(plan);
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(rig.frame());
+  EXPECT_EQ(rig.cam->seen_controls().exposure_us, 2000) << "the start-up limit";
+
+  rig.source->set_exposure_max_us(4000.0);  // SIGHUP, through Pipeline::apply_reloadable
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(rig.frame());
+  EXPECT_EQ(rig.cam->seen_controls().exposure_us, 2800) << "the same plan, no longer clamped to 2000";
+  EXPECT_FLOAT_EQ(rig.cam->seen_controls().analogue_gain, static_cast<float>(4000.0 / 2800.0))
+      << "gain_min at the new exposure_max_us";
+  EXPECT_DOUBLE_EQ(rig.slot.view.exposure.exposure_us, 2800.0) << "frames exposed with it";
+
+  plan.exposure_us = 9000.0;
+  rig.source->set_exposure(plan);
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(rig.frame());
+  EXPECT_EQ(rig.cam->seen_controls().exposure_us, 4000) << "the reloaded limit clamps new plans";
+
+  rig.source->set_exposure_max_us(1000.0);
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(rig.frame());
+  EXPECT_EQ(rig.cam->seen_controls().exposure_us, 1000) << "a lower limit too";
+  EXPECT_DOUBLE_EQ(rig.slot.view.exposure.exposure_us, FakeCamera::applied_exposure_us(1000));
+}
+
 TEST(LibcameraSource, ReusesOneRequestPerBuffer) {
   Rig rig;
   for (int i = 0; i < 12; ++i) ASSERT_TRUE(rig.frame());

@@ -25,6 +25,7 @@
 #include "usage.hpp"
 #include "gvs/daemon/clock.hpp"
 #include "gvs/drivers/dataset.hpp"
+#include "gvs/dsp/frame.hpp"
 #include "live_source.hpp"
 
 namespace gvs::cli {
@@ -111,7 +112,7 @@ class BackgroundWriter {
     if (!with_truth_ || !f.truth.known) return;
     drivers::TruthRecord truth;
     truth.index = f.record.index;
-    truth.t_ns = f.record.t_ns + static_cast<std::int64_t>(f.record.exposure.light_centre_us() * 1000.0);
+    truth.t_ns = dsp::mid_exposure_ns(f.record.t_ns, f.record.exposure);
     truth.vx_mps = f.truth.vx_mps;
     truth.vy_mps = f.truth.vy_mps;
     truth.speed_mps = f.truth.speed_mps;

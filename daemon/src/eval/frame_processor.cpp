@@ -4,14 +4,6 @@
 
 namespace gvs::daemon {
 
-namespace {
-
-std::int64_t light_centre_ns(const dsp::FrameView& frame) noexcept {
-  return frame.t_ns + static_cast<std::int64_t>(std::llround(frame.exposure.light_centre_us() * 1000.0));
-}
-
-}  // namespace
-
 FrameProcessor::FrameProcessor(const FrameProcessorConfig& config)
     : config_(config), estimator_(dsp::make_estimator(config.estimator)) {}
 
@@ -22,10 +14,10 @@ void FrameProcessor::reset() noexcept {
 
 dsp::VelocityEstimate FrameProcessor::reject(const dsp::FrameView& frame, RejectReason reason) noexcept {
   ++rejects_.by_reason[static_cast<std::size_t>(reason)];
-  return dsp::no_estimate(frame.index, light_centre_ns(frame), reject_method(reason));
+  return dsp::no_estimate(frame.index, dsp::mid_exposure_ns(frame.t_ns, frame.exposure), reject_method(reason));
 }
 
-dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) noexcept {
+dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) {
   const dsp::CameraGeometry& cam = config_.estimator.camera;
   if (frame.gray.empty() || frame.gray.type() != CV_8UC1 || frame.gray.cols != cam.width_px ||
       frame.gray.rows != cam.height_px) {

@@ -16,7 +16,7 @@ namespace {
 class DspEstimator final : public FrameEstimator {
  public:
   explicit DspEstimator(const FrameProcessorConfig& config) : processor_(config) {}
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
+  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     if (slot.defect) return processor_.reject(slot.view, *slot.defect);
     return processor_.process(slot.view);
   }
@@ -32,8 +32,8 @@ class DspEstimator final : public FrameEstimator {
 /// checks the daemon's timing and CAN path without an estimator's errors.
 class TruthEstimator final : public FrameEstimator {
  public:
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept override {
-    const auto mid_ns = slot.view.t_ns + static_cast<std::int64_t>(slot.view.exposure.light_centre_us() * 1000.0);
+  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+    const std::int64_t mid_ns = dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
     if (!slot.truth.known) return dsp::no_estimate(slot.view.index, mid_ns, dsp::Method::none);
     dsp::VelocityEstimate e;
     e.index = slot.view.index;
@@ -55,6 +55,20 @@ class TruthEstimator final : public FrameEstimator {
 };
 
 }  // namespace
+
+dsp::VelocityEstimate FrameEstimator::estimate(const FrameSlot& slot) noexcept {
+  try {
+    return estimate_frame(slot);
+  } catch (...) {
+    // cv::Exception, std::exception or anything else: one frame lost, never
+    // the process. The estimator may have stopped half-way through updating
+    // its history, so it starts again from the next frame.
+  }
+  ++exceptions_;
+  reset();
+  return dsp::no_estimate(slot.view.index, dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure),
+                          dsp::Method::estimator_exception);
+}
 
 std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
                                                      const dsp::CameraGeometry& geometry) {

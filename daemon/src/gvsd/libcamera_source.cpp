@@ -38,10 +38,15 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
 }
 
 drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s) {
+  return camera_controls_for(plan, s, s.exposure_max_us);
+}
+
+drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s,
+                                            double exposure_max_us) {
   const double period_us = 1e6 / s.fps;
-  const double longest_us = std::max(s.exposure_min_us, std::min(s.exposure_max_us, 0.9 * period_us));
+  const double longest_us = std::max(s.exposure_min_us, std::min(exposure_max_us, 0.9 * period_us));
   const double exposure_us = std::clamp(plan.exposure_us, s.exposure_min_us, longest_us);
-  const double gain = std::clamp(s.gain_min * s.exposure_max_us / exposure_us, s.gain_min, s.gain_max);
+  const double gain = std::clamp(s.gain_min * exposure_max_us / exposure_us, s.gain_min, s.gain_max);
   drivers::CameraControls c;
   c.exposure_us = static_cast<std::int32_t>(std::lround(exposure_us));
   c.analogue_gain = static_cast<float>(gain);
@@ -56,9 +61,9 @@ LibcameraSource::LibcameraSource(std::unique_ptr<drivers::CameraDevice> device, 
   period_ns_ = static_cast<std::int64_t>(1e9 / settings_.fps);
   frame_bytes_ = static_cast<std::size_t>(settings_.camera.width_px) * static_cast<std::size_t>(settings_.camera.height_px);
   for (Handoff& h : handoff_.slots_for_setup()) h.pixels.assign(frame_bytes_, 0);
-  dsp::ExposurePlan initial;
-  initial.exposure_us = settings_.exposure_initial_us;
-  controls_packed_.store(pack(camera_controls_for(initial, settings_)));
+  plan_.exposure_us = settings_.exposure_initial_us;
+  exposure_max_us_.store(settings_.exposure_max_us);
+  apply_exposure(settings_.exposure_max_us);
   camera_id_ = choose_camera(device_->list_cameras(), settings_.camera_id);
   open_and_start();
   supervisor_ = std::thread([this] { supervise(); });
@@ -117,7 +122,17 @@ drivers::CameraControls LibcameraSource::current_controls() const noexcept {
 }
 
 void LibcameraSource::set_exposure(const dsp::ExposurePlan& plan) noexcept {
-  controls_packed_.store(pack(camera_controls_for(plan, settings_)), std::memory_order_release);
+  plan_ = plan;
+  apply_exposure(exposure_max_us_.load(std::memory_order_relaxed));
+}
+
+void LibcameraSource::set_exposure_max_us(double exposure_max_us) noexcept {
+  exposure_max_us_.store(exposure_max_us, std::memory_order_relaxed);
+}
+
+void LibcameraSource::apply_exposure(double exposure_max_us) noexcept {
+  applied_exposure_max_us_ = exposure_max_us;
+  controls_packed_.store(pack(camera_controls_for(plan_, settings_, exposure_max_us)), std::memory_order_release);
 }
 
 // ---- camera library's thread: copy, hand over, re-queue; nothing else ----
@@ -184,6 +199,11 @@ void LibcameraSource::camera_disconnected() noexcept {
 SourceStatus LibcameraSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept {
   const std::int64_t start_ns = mono_now_ns();
   if (last_frame_ns_ < 0) last_frame_ns_ = start_ns;
+  // A reloaded [exposure] max_us: the capture thread is the only writer of
+  // the controls, so the new limit is applied here rather than by the main thread.
+  if (const double max_us = exposure_max_us_.load(std::memory_order_relaxed); max_us != applied_exposure_max_us_) {
+    apply_exposure(max_us);
+  }
   const auto deadline_ns = start_ns + static_cast<std::int64_t>(settings_.stall_periods * static_cast<double>(period_ns_));
   for (;;) {
     if (stop.load(std::memory_order_relaxed)) return SourceStatus::stopped;

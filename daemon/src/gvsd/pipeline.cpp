@@ -41,7 +41,7 @@ Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<FrameSource> sour
       source_(std::move(source)),
       estimator_(std::move(estimator)),
       sink_(std::move(sink)),
-      light_(drivers::make_strobe_driver(config.light)),
+      light_(hooks.make_light ? hooks.make_light(config.light) : drivers::make_strobe_driver(config.light)),
       hooks_(std::move(hooks)),
       ring_(make_slots(config.ring_slots)),
       encoder_(encoder_config(config)),
@@ -83,6 +83,7 @@ void Pipeline::apply_reloadable(const DaemonConfig& c) noexcept {
     s.mode = dsp::ExposureMode::adaptive;
   s.limits = dsp::exposure_limits_for(source_->geometry(), source_->nominal_fps());
   s.limits.max_exposure_us = c.exposure_max_us;
+  source_->set_exposure_max_us(c.exposure_max_us);
   s.limits.min_pulse_us = c.exposure_min_pulse_us;
   // A camera without a strobe cannot expose shorter than its own floor: the
   // controller's sweep must turn round there, not below it.

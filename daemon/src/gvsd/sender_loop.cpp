@@ -54,6 +54,7 @@ can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, const can:
   if (now.send_errors != status_last_.send_errors) m.faults |= can::kFaultCanSendError;
   if (!realtime()) m.faults |= can::kFaultNoRealtime;
   if (now.implausible_estimates != status_last_.implausible_estimates) m.faults |= can::kFaultImplausible;
+  if (now.light_errors != status_last_.light_errors) m.faults |= can::kFaultLight;
   m.faults = static_cast<std::uint16_t>(m.faults | sink_->take_fault_bits());
 
   if (stop_.load(std::memory_order_relaxed)) {

@@ -15,6 +15,7 @@
 #include "asphalt.hpp"
 #include "exposure.hpp"
 #include "gvs/drivers/sim/ground_spec.hpp"
+#include "gvs/dsp/frame.hpp"
 #include "gvs/dsp/geometry.hpp"
 #include "hash.hpp"
 #include "photo_ground.hpp"
@@ -155,7 +156,7 @@ struct Simulator::Impl {
     TruthRecord& tr = out.truth;
     tr = TruthRecord{};
     tr.index = index;
-    tr.t_ns = t_ns + std::llround(centre_us * 1000.0);
+    tr.t_ns = dsp::mid_exposure_ns(t_ns, p);
     tr.vx_mps = v.vx_mps;
     tr.vy_mps = v.vy_mps;
     tr.speed_mps = std::hypot(v.vx_mps, v.vy_mps);

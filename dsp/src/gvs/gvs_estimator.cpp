@@ -34,8 +34,8 @@ GvsEstimator::~GvsEstimator() = default;
 void GvsEstimator::reset() { forget_tracking(track_); }
 
 VelocityEstimate GvsEstimator::estimate(const FrameView& frame) {
-  // The estimate refers to the middle of the light: t + light_centre.
-  const auto t_mid = frame.t_ns + std::llround(frame.exposure.light_centre_us() * 1000.0);
+  // The estimate refers to the middle of the light.
+  const std::int64_t t_mid = mid_exposure_ns(frame.t_ns, frame.exposure);
   if (frame.gray.empty() || frame.gray.type() != CV_8UC1 || frame.gray.size() != size_) {
     reset();
     return no_estimate(frame.index, t_mid, Method::bad_frame);

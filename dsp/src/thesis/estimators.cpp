@@ -11,11 +11,6 @@ namespace gvs::dsp {
 
 namespace {
 
-/// The estimate refers to the middle of the frame's light.
-std::int64_t light_centre_ns(const FrameView& f) {
-  return f.t_ns + static_cast<std::int64_t>(std::llround(f.exposure.light_centre_us() * 1000.0));
-}
-
 /// Why this frame cannot be measured, or nothing.
 std::optional<Method> frame_problem(const FrameView& f, const CameraGeometry& cam) {
   if (f.gray.empty()) return Method::empty_frame;
@@ -43,7 +38,7 @@ class ThesisOrbEstimator final : public VelocityEstimator {
   explicit ThesisOrbEstimator(const EstimatorConfig& config) : camera_(config.camera) {}
 
   VelocityEstimate estimate(const FrameView& frame) override {
-    const std::int64_t t_ns = light_centre_ns(frame);
+    const std::int64_t t_ns = mid_exposure_ns(frame.t_ns, frame.exposure);
     if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       if (!orb_.has_previous()) {
@@ -87,7 +82,7 @@ class ThesisFftEstimator final : public VelocityEstimator {
       : camera_(config.camera), fft_(config.camera.width_px, config.camera.height_px) {}
 
   VelocityEstimate estimate(const FrameView& frame) override {
-    const std::int64_t t_ns = light_centre_ns(frame);
+    const std::int64_t t_ns = mid_exposure_ns(frame.t_ns, frame.exposure);
     if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       const thesis::FftAxis axis = fft_.measure(frame.gray);
@@ -116,7 +111,7 @@ class ThesisLaplacianEstimator final : public VelocityEstimator {
       : camera_(config.camera), lap_(config.camera.mm_per_px) {}
 
   VelocityEstimate estimate(const FrameView& frame) override {
-    const std::int64_t t_ns = light_centre_ns(frame);
+    const std::int64_t t_ns = mid_exposure_ns(frame.t_ns, frame.exposure);
     if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       const auto model = thesis::fitted_laplacian_model();
@@ -154,7 +149,7 @@ class ThesisEstimator final : public VelocityEstimator {
         previous_(config.camera.height_px, config.camera.width_px, CV_8UC1) {}
 
   VelocityEstimate estimate(const FrameView& frame) override {
-    const std::int64_t t_ns = light_centre_ns(frame);
+    const std::int64_t t_ns = mid_exposure_ns(frame.t_ns, frame.exposure);
     if (const auto why = frame_problem(frame, camera_)) return no_estimate(frame.index, t_ns, *why);
     try {
       VelocityEstimate e = run(frame, t_ns);

@@ -42,7 +42,7 @@ enum FaultBit : std::uint16_t {
   kFaultCanController = 1u << 6,       ///< controller problem (overflow, warning level)
   kFaultCanInterfaceDown = 1u << 7,    ///< interface was down/removed since the last status
   kFaultCanSendError = 1u << 8,        ///< a send failed (ENOBUFS, EAGAIN, ...) since the last status
-  kFaultLight = 1u << 9,               ///< LED ring / strobe fault
+  kFaultLight = 1u << 9,               ///< an LED ring / strobe write failed or a plan was refused since the last status
   kFaultNoRealtime = 1u << 10,         ///< running without real-time scheduling (desk mode)
   kFaultImplausible = 1u << 11,        ///< an estimate was held back as physically implausible since the last status
 };

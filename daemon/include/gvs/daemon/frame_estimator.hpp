@@ -20,12 +20,24 @@ class FrameEstimator {
   FrameEstimator& operator=(const FrameEstimator&) = delete;
   virtual ~FrameEstimator() = default;
 
-  /// Real-time path: no throw, no allocation after the first frame.
-  virtual dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept = 0;
+  /// Real-time path: no throw, no allocation after the first frame. An
+  /// exception from estimate_frame (OpenCV throws cv::Exception on inputs it
+  /// rejects) ends here: the frame gets no estimate ("estimator-exception"),
+  /// it is counted and the estimator is reset, so the process keeps running.
+  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept;
   virtual void reset() noexcept = 0;
   /// Bad input frames so far, per reason (FrameRejectCounters::by_reason).
   [[nodiscard]] virtual RejectCounts rejected_frames() const noexcept { return {}; }
+  /// Frames whose estimation threw (caught by estimate()).
+  [[nodiscard]] std::uint64_t estimator_exceptions() const noexcept { return exceptions_; }
   [[nodiscard]] virtual std::string name() const = 0;
+
+ protected:
+  /// The estimation itself; may throw (estimate() catches).
+  virtual dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) = 0;
+
+ private:
+  std::uint64_t exceptions_ = 0;
 };
 
 /// "truth" or a dsp::estimator_names() entry. Throws std::runtime_error

@@ -38,8 +38,11 @@ class FrameProcessor {
   /// Builds the estimator (may throw std::invalid_argument naming the method).
   explicit FrameProcessor(const FrameProcessorConfig& config);
 
-  /// Never throws; no allocation after the first frame of the configured size.
-  dsp::VelocityEstimate process(const dsp::FrameView& frame) noexcept;
+  /// No allocation after the first frame of the configured size. Bad frames
+  /// are answered with no estimate; what the estimator itself throws
+  /// (cv::Exception from OpenCV) passes through to the caller (gvsd catches
+  /// it in FrameEstimator::estimate).
+  dsp::VelocityEstimate process(const dsp::FrameView& frame);
   void reset() noexcept;
   /// A frame the source could not deliver (RejectReason::unreadable, ...):
   /// no estimate, counted under its reason; the estimator keeps its

@@ -43,6 +43,9 @@ class FrameSource {
   /// without exposure control ignore it.
   virtual void set_exposure(const dsp::ExposurePlan& plan) noexcept = 0;
   [[nodiscard]] virtual bool controls_exposure() const = 0;
+  /// Main thread, also while the capture thread runs (start-up and SIGHUP):
+  /// `[exposure] max_us`, for sources that clamp the exposure themselves.
+  virtual void set_exposure_max_us(double exposure_max_us) noexcept { (void)exposure_max_us; }
   /// The frames carry the light that reached the sensor (the simulator
   /// renders its strobe, a dataset records it). A real camera reports only
   /// its shutter time: then gvsd stamps each frame with the LED ring's

@@ -32,7 +32,7 @@ struct LibcameraSettings {
   int buffer_count = 4;
   double exposure_initial_us = 3000.0;
   double exposure_min_us = 10.0;    ///< shortest ExposureTime sent
-  double exposure_max_us = 3000.0;  ///< longest ExposureTime sent (also capped by the frame period)
+  double exposure_max_us = 3000.0;  ///< longest ExposureTime sent (also capped by the frame period); at start, then set_exposure_max_us
   double gain_min = 1.0;            ///< AnalogueGain at exposure_max_us
   double gain_max = 8.0;            ///< AnalogueGain never above this
   double stall_periods = 3.0;       ///< next() reports an error after this many periods without a frame
@@ -53,6 +53,9 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
 /// the image brightness stays put) within [gain_min, gain_max];
 /// FrameDurationLimits fixed at 1/fps.
 drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s);
+/// The same with `exposure_max_us` in place of s.exposure_max_us (a reloaded value).
+drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s,
+                                            double exposure_max_us);
 
 /// The source's counters (each written by one thread).
 struct CameraHealth {
@@ -84,6 +87,9 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
   void set_exposure(const dsp::ExposurePlan& plan) noexcept override;
   [[nodiscard]] bool controls_exposure() const override { return true; }
+  /// Takes effect from the next frame the capture thread asks for, with the
+  /// last plan re-clamped (a fixed exposure gets no new plan to carry it).
+  void set_exposure_max_us(double exposure_max_us) noexcept override;
   [[nodiscard]] bool frames_carry_light() const override { return false; }
   [[nodiscard]] std::string health_text() const override;
 
@@ -104,6 +110,7 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   void request_completed(const drivers::CompletedRequest& done) noexcept override;
   void camera_disconnected() noexcept override;
   drivers::CameraControls current_controls() const noexcept;
+  void apply_exposure(double exposure_max_us) noexcept;  // capture thread
 
   void open_and_start();  // throws
   void supervise() noexcept;
@@ -118,6 +125,8 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   Wakeup frame_ready_;
   Wakeup supervisor_wake_;
   std::atomic<std::uint64_t> controls_packed_{0};  ///< exposure_us (low 32) | gain float bits (high 32)
+  static_assert(std::atomic<double>::is_always_lock_free, "exposure_max_us_ is read on the capture thread");
+  std::atomic<double> exposure_max_us_{0.0};  ///< written by the main thread (reload)
 
   // producer (camera thread) state
   bool new_stream_ = true;
@@ -128,6 +137,8 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
 
   // capture thread state
   std::int64_t last_frame_ns_ = -1;
+  dsp::ExposurePlan plan_;            ///< the last plan asked for
+  double applied_exposure_max_us_ = 0.0;  ///< the limit controls_packed_ was clamped with
 
   std::atomic<bool> streaming_{false};
   std::atomic<std::int64_t> stream_started_ns_{0};  ///< monotonic time of the last start (supervisor)

@@ -53,6 +53,9 @@ struct PipelineHooks {
   /// When > 0, the sender stops after this many periods and run_complete()
   /// turns true (--run-for): a bounded run sends exactly that many frames.
   std::uint64_t max_ticks = 0;
+  /// When set, builds the [light] driver instead of drivers::make_strobe_driver
+  /// (tests: a strobe whose failures they script).
+  std::function<std::unique_ptr<drivers::StrobeDriver>(const drivers::StrobeConfig&)> make_light;
 };
 
 /// Progress counters for the watchdog: each changes while its thread runs.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -44,6 +45,14 @@ struct ExposurePlan {
     return total > 0.0 ? weighted / total : exposure_us / 2.0;
   }
 };
+
+/// The time a frame describes: its exposure start plus the light's centre
+/// (light_centre_us(), mid-exposure for a continuous exposure), rounded to
+/// the nearest nanosecond. Estimates, truth rows and the CAN age all use
+/// this one instant, so they agree to the nanosecond.
+[[nodiscard]] inline std::int64_t mid_exposure_ns(std::int64_t exposure_start_ns, const ExposurePlan& exposure) {
+  return exposure_start_ns + static_cast<std::int64_t>(std::llround(exposure.light_centre_us() * 1000.0));
+}
 
 /// One frame as the estimators take it. `gray` is CV_8UC1; the view does not
 /// own the pixels (the daemon's ring or the replay reader does).

@@ -37,6 +37,7 @@ enum class Method : std::uint8_t {
   unreadable,
   no_light_in_exposure,
   no_exposure_metadata,
+  estimator_exception,
   // the thesis's estimators
   thesis_orb,
   thesis_fft,
@@ -90,6 +91,7 @@ inline constexpr MethodInfo kMethods[] = {
     {Method::unreadable,           "unreadable",           50, "the source could not deliver the frame's pixels"},
     {Method::no_light_in_exposure, "no-light-in-exposure", 51, "the LED ring fired no light in this frame's exposure"},
     {Method::no_exposure_metadata, "no-exposure-metadata", 52, "the camera did not say how long the frame was exposed"},
+    {Method::estimator_exception,  "estimator-exception",  53, "the estimator threw on this frame; gvsd caught it and reset the estimator"},
     {Method::thesis_orb,           "thesis-orb",           16, "thesis: ORB feature matching between two frames"},
     {Method::thesis_fft,           "thesis-fft",           17, "thesis: streak axis from the spectrum (direction only)"},
     {Method::thesis_laplacian,     "thesis-laplacian",     18, "thesis: speed from the Laplacian blur measure"},
