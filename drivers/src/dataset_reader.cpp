@@ -214,7 +214,7 @@ cv::Mat DatasetReader::load_gray(std::size_t i) const {
   } else if (gray.depth() != CV_8U) {
     fail(file, "has an unsupported pixel depth; expected 8- or 16-bit");
   }
-  const dsp::CameraGeometry& g = camera_.geometry;
+  const core::CameraGeometry& g = camera_.geometry;
   if (gray.cols != g.width_px || gray.rows != g.height_px) {
     fail(file, "is " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) + " px but camera.json says " +
                    std::to_string(g.width_px) + "x" + std::to_string(g.height_px));
@@ -222,8 +222,8 @@ cv::Mat DatasetReader::load_gray(std::size_t i) const {
   return gray;
 }
 
-dsp::ExposurePlan parse_pulses(const std::string& text, double exposure_us) {
-  dsp::ExposurePlan plan;
+core::ExposurePlan parse_pulses(const std::string& text, double exposure_us) {
+  core::ExposurePlan plan;
   plan.exposure_us = exposure_us;
   plan.pulse_count = 0;
   std::string_view rest(text);
@@ -236,18 +236,18 @@ dsp::ExposurePlan parse_pulses(const std::string& text, double exposure_us) {
     if (colon == std::string_view::npos) {
       throw std::invalid_argument("'" + std::string(item) + "' is not start_us:duration_us");
     }
-    dsp::LightPulse p;
+    core::LightPulse p;
     if (!parse_double(item.substr(0, colon), p.start_us) || !parse_double(item.substr(colon + 1), p.duration_us)) {
       throw std::invalid_argument("'" + std::string(item) + "' is not two numbers start_us:duration_us");
     }
     if (p.start_us < 0.0 || p.duration_us <= 0.0) {
       throw std::invalid_argument("'" + std::string(item) + "' needs start_us >= 0 and duration_us > 0");
     }
-    if (plan.pulse_count == dsp::ExposurePlan::kMaxPulses) {
-      throw std::invalid_argument("more than " + std::to_string(dsp::ExposurePlan::kMaxPulses) + " pulses");
+    if (plan.pulse_count == core::ExposurePlan::kMaxPulses) {
+      throw std::invalid_argument("more than " + std::to_string(core::ExposurePlan::kMaxPulses) + " pulses");
     }
     if (plan.pulse_count > 0) {
-      const dsp::LightPulse& prev = plan.pulses[plan.pulse_count - 1];
+      const core::LightPulse& prev = plan.pulses[plan.pulse_count - 1];
       if (p.start_us < prev.start_us + prev.duration_us) {
         throw std::invalid_argument("pulses overlap or are out of order at '" + std::string(item) + "'");
       }

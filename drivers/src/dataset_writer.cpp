@@ -36,7 +36,7 @@ std::ofstream open_for_writing(const fs::path& file) {
 
 }  // namespace
 
-std::string format_pulses(const dsp::ExposurePlan& plan) {
+std::string format_pulses(const core::ExposurePlan& plan) {
   std::string s;
   for (std::size_t i = 0; i < plan.pulse_count; ++i) {
     if (i > 0) s += '|';

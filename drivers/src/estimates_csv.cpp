@@ -24,7 +24,7 @@ void append(std::string& s, bool present, double v, int decimals) {
 }
 }  // namespace
 
-std::string format_estimate_row(const dsp::VelocityEstimate& e) {
+std::string format_estimate_row(const core::VelocityEstimate& e) {
   std::string s = std::to_string(e.index) + ',' + std::to_string(e.t_ns);
   const bool xy = e.has_velocity_xy();
   append(s, xy, e.has_direction ? e.vx_mps : 0.0, 5);
@@ -34,7 +34,7 @@ std::string format_estimate_row(const dsp::VelocityEstimate& e) {
   append(s, e.has_yaw_rate, e.yaw_rate_dps, 4);
   append(s, true, e.quality, 3);
   s += ',';
-  s += dsp::method_word(e.method);
+  s += core::method_word(e.method);
   return s;
 }
 
@@ -43,7 +43,7 @@ EstimatesCsvWriter::EstimatesCsvWriter(const fs::path& file) : file_(file), out_
   out_ << kHeader << '\n';
 }
 
-void EstimatesCsvWriter::write(const dsp::VelocityEstimate& e) {
+void EstimatesCsvWriter::write(const core::VelocityEstimate& e) {
   out_ << format_estimate_row(e) << '\n';
   if (!out_) throw DatasetError(file_.string() + ": write failed (disk full?)");
 }
@@ -75,7 +75,7 @@ std::vector<EstimateRow> read_estimates_csv(const fs::path& file) {
       return pos < fields.size() ? fields[pos] : std::string_view{};
     };
     EstimateRow r;
-    dsp::VelocityEstimate& e = r.estimate;
+    core::VelocityEstimate& e = r.estimate;
     if (!detail::parse_int(field(0), e.index)) {
       throw DatasetError(file.string() + ":" + std::to_string(line_no) + ": index is not a whole number");
     }
@@ -90,7 +90,7 @@ std::vector<EstimateRow> read_estimates_csv(const fs::path& file) {
       e.has_speed = true;
     }
     if (!detail::parse_double(field(7), e.quality)) e.quality = 0.0;
-    e.method = dsp::method_from_word(field(8)).value_or(dsp::Method::unknown);
+    e.method = core::method_from_word(field(8)).value_or(core::Method::unknown);
     rows.push_back(std::move(r));
   }
   return rows;

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "gvs/daemon/replay.hpp"
+#include "gvs/eval/replay.hpp"
 #include "gvs/drivers/dataset.hpp"
 
 int main(int argc, char** argv) {
@@ -14,12 +14,12 @@ int main(int argc, char** argv) {
   }
   try {
     const gvs::drivers::DatasetReader dataset(argv[1]);
-    gvs::daemon::FrameProcessorConfig config;
-    gvs::daemon::replay_dataset(dataset, config, [](const gvs::dsp::VelocityEstimate& e) {
+    gvs::dsp::FrameProcessorConfig config;
+    gvs::eval::replay_dataset(dataset, config, [](const gvs::core::VelocityEstimate& e) {
       std::printf("%lld %lld %d%d%d %a %a %a %a %a %a %a %d %s\n", static_cast<long long>(e.index),
                   static_cast<long long>(e.t_ns), e.has_speed, e.has_direction, e.has_yaw_rate, e.vx_mps,
                   e.vy_mps, e.speed_mps, e.direction_deg, e.yaw_rate_dps, e.quality, e.texture_snr,
-                  e.tracking, gvs::dsp::method_word(e.method));
+                  e.tracking, gvs::core::method_word(e.method));
     });
   } catch (const std::exception& ex) {
     std::fprintf(stderr, "%s\n", ex.what());

@@ -13,7 +13,7 @@
 #include "gvs/can/codec.hpp"
 #include "gvs/can/e2e.hpp"
 #include "gvs/can/signals.hpp"
-#include "gvs/dsp/method.hpp"
+#include "gvs/core/method.hpp"
 
 namespace gvs::can {
 namespace {
@@ -195,10 +195,10 @@ TEST(DbcCrossCheck, E2eHeaderReadThroughDbc) {
 
 TEST(DbcCrossCheck, ValueTablesMatchCode) {
   const DbcMessage& status = *dbc().find("GVS_Status");
-  // GVS_Method's codes and words are dsp's method table (gvs/dsp/method.hpp).
+  // GVS_Method's codes and words are core's method table (gvs/core/method.hpp).
   const auto& methods = status.value_tables.at("GVS_Method");
-  EXPECT_EQ(methods.size(), dsp::kMethodCount);
-  for (const dsp::MethodInfo& m : dsp::kMethods) {
+  EXPECT_EQ(methods.size(), core::kMethodCount);
+  for (const core::MethodInfo& m : core::kMethods) {
     ASSERT_TRUE(methods.count(m.can_code)) << m.word;
     EXPECT_EQ(methods.at(m.can_code), m.word);
   }

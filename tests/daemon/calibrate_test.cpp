@@ -16,7 +16,7 @@
 
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/config_edit.hpp"
-#include "gvs/drivers/checkerboard.hpp"
+#include "gvs/dsp/checkerboard.hpp"
 #include "gvs/dsp/calibration.hpp"
 
 namespace gvs {
@@ -79,14 +79,14 @@ TEST(Checkerboard, DetectorMeasuresADrawnRotatedBlurredBoard) {
   cv::randn(noise, 0, 4);
   cv::add(frame, noise, frame);
 
-  const auto m = drivers::measure_checkerboard(frame, {9, 6}, 10.0);
+  const auto m = dsp::measure_checkerboard(frame, {9, 6}, 10.0);
   ASSERT_TRUE(m) << "board not found";
   EXPECT_NEAR(m->scale.mm_per_px, 10.0 / kSquarePx, 0.005 * 10.0 / kSquarePx) << "within 0.5 %";
   EXPECT_NEAR(std::abs(m->scale.grid_rotation_deg), 7.0, 0.3);
   EXPECT_LT(std::abs(m->scale.anisotropy_pct), 0.5);
 
   const cv::Mat blank(384, 512, CV_8UC1, cv::Scalar(128));
-  EXPECT_FALSE(drivers::measure_checkerboard(blank, {9, 6}, 10.0));
+  EXPECT_FALSE(dsp::measure_checkerboard(blank, {9, 6}, 10.0));
 }
 
 TEST(MountYaw, MedianOfStraightDrivingGivesTheYawDespiteOutliers) {

@@ -236,7 +236,7 @@ TEST(StartupCheck, ReplayChecksTheDatasetsIndexAndMemoryLimit) {
   }
   DaemonConfig c;
   c.source_uri = "replay:" + dir.string();
-  const dsp::CameraGeometry g = check_frame_source(c);
+  const core::CameraGeometry g = check_frame_source(c);
   EXPECT_EQ(g.width_px, 640) << "the dataset's camera.json, not [camera]";
   EXPECT_EQ(g.height_px, 480);
   c.replay_preload_limit_mb = 1.0;

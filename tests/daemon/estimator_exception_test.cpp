@@ -28,7 +28,7 @@ class ThrowingEstimator final : public FrameEstimator {
  public:
   ThrowingEstimator(std::int64_t from, std::int64_t to, std::int64_t std_throw_at)
       : from_(from), to_(to), std_throw_at_(std_throw_at), inner_(make_frame_estimator("truth", {})) {}
-  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     const std::int64_t i = slot.view.index;
     if (i >= from_ && i <= to_) {
       cv::Mat a(4, 4, CV_8UC1, cv::Scalar(1)), b(3, 3, CV_8UC1, cv::Scalar(1)), sum;
@@ -58,30 +58,30 @@ FrameSlot slot_with(std::int64_t index, std::int64_t t_ns, double exposure_us) {
 
 TEST(EstimatorException, CvExceptionBecomesNoEstimateCountedAndReset) {
   ThrowingEstimator est(3, 3, -1);
-  const dsp::VelocityEstimate before = est.estimate(slot_with(2, 1'000'000'000, 1000.0));
+  const core::VelocityEstimate before = est.estimate(slot_with(2, 1'000'000'000, 1000.0));
   EXPECT_TRUE(before.has_speed);
   const int resets_before = est.resets.load();
 
-  const dsp::VelocityEstimate e = est.estimate(slot_with(3, 2'000'000'000, 1000.0));
+  const core::VelocityEstimate e = est.estimate(slot_with(3, 2'000'000'000, 1000.0));
   EXPECT_FALSE(e.has_speed);
   EXPECT_FALSE(e.has_direction);
   EXPECT_EQ(e.quality, 0.0);
-  EXPECT_EQ(e.method, dsp::Method::estimator_exception);
+  EXPECT_EQ(e.method, core::Method::estimator_exception);
   EXPECT_EQ(e.index, 3);
   EXPECT_EQ(e.t_ns, 2'000'500'000) << "the failure still names the frame's mid-exposure";
   EXPECT_EQ(est.estimator_exceptions(), 1u);
   EXPECT_EQ(est.resets.load(), resets_before + 1) << "a half-updated history must not measure the next frame";
 
-  const dsp::VelocityEstimate after = est.estimate(slot_with(4, 3'000'000'000, 1000.0));
+  const core::VelocityEstimate after = est.estimate(slot_with(4, 3'000'000'000, 1000.0));
   EXPECT_TRUE(after.has_speed) << "the next frame is estimated as usual";
   EXPECT_EQ(est.estimator_exceptions(), 1u);
 }
 
 TEST(EstimatorException, AnyStdExceptionIsCaught) {
   ThrowingEstimator est(-1, -1, 5);
-  const dsp::VelocityEstimate e = est.estimate(slot_with(5, 0, 500.0));
+  const core::VelocityEstimate e = est.estimate(slot_with(5, 0, 500.0));
   EXPECT_FALSE(e.has_speed);
-  EXPECT_EQ(e.method, dsp::Method::estimator_exception);
+  EXPECT_EQ(e.method, core::Method::estimator_exception);
   EXPECT_EQ(est.estimator_exceptions(), 1u);
 }
 

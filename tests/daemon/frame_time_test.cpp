@@ -1,10 +1,10 @@
-// Every part of the frame path stamps a frame with dsp::mid_exposure_ns:
+// Every part of the frame path stamps a frame with core::mid_exposure_ns:
 // the truth estimator, the frame checks and the exception boundary give the
 // same instant to the nanosecond, rounded, never truncated.
 #include <gtest/gtest.h>
 
 #include "gvs/daemon/frame_estimator.hpp"
-#include "gvs/daemon/frame_processor.hpp"
+#include "gvs/dsp/frame_processor.hpp"
 
 namespace gvs::daemon {
 namespace {
@@ -22,7 +22,7 @@ FrameSlot awkward_slot() {
 
 TEST(FrameTime, TruthEstimatorStampsTheRoundedMidExposure) {
   const FrameSlot s = awkward_slot();
-  const std::int64_t want = dsp::mid_exposure_ns(s.view.t_ns, s.view.exposure);
+  const std::int64_t want = core::mid_exposure_ns(s.view.t_ns, s.view.exposure);
   ASSERT_EQ(want, 5'000'500'001);
   auto truth = make_frame_estimator("truth", {});
   EXPECT_EQ(truth->estimate(s).t_ns, want);
@@ -33,12 +33,12 @@ TEST(FrameTime, TruthEstimatorStampsTheRoundedMidExposure) {
 
 TEST(FrameTime, FrameChecksStampTheRoundedMidExposure) {
   const FrameSlot s = awkward_slot();
-  const std::int64_t want = dsp::mid_exposure_ns(s.view.t_ns, s.view.exposure);
-  FrameProcessorConfig config;
+  const std::int64_t want = core::mid_exposure_ns(s.view.t_ns, s.view.exposure);
+  dsp::FrameProcessorConfig config;
   config.estimator.method = "gvs";
-  FrameProcessor p(config);
+  dsp::FrameProcessor p(config);
   EXPECT_EQ(p.process(s.view).t_ns, want) << "wrong-size (no pixels)";
-  EXPECT_EQ(p.reject(s.view, RejectReason::unreadable).t_ns, want);
+  EXPECT_EQ(p.reject(s.view, dsp::RejectReason::unreadable).t_ns, want);
 }
 
 }  // namespace

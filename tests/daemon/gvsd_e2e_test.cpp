@@ -21,7 +21,7 @@
 #include "gvs/daemon/clock.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
-#include "gvs/dsp/method.hpp"
+#include "gvs/core/method.hpp"
 #include "gvsd_test_support.hpp"
 
 namespace gvs::daemon {
@@ -145,14 +145,14 @@ void must_show_run(const std::string& method, const std::string& source, Pace pa
     if (m.decoded.status_msg.state == can::SensorState::Init) continue;
     const std::uint8_t code = m.decoded.status_msg.method;
     EXPECT_NE(code, 255) << "GVS_Method 255 (unknown)";
-    const std::optional<dsp::Method> sent = dsp::method_from_can_code(code);
-    ASSERT_TRUE(sent.has_value()) << "GVS_Method " << int{code} << " is not in dsp::kMethods";
-    ++method_counts[dsp::method_word(*sent)];
-    const bool gvs_measurement = *sent == dsp::Method::pair || *sent == dsp::Method::still ||
-                                 *sent == dsp::Method::blur_cont || *sent == dsp::Method::blur_energy ||
-                                 *sent == dsp::Method::blur_fwd || *sent == dsp::Method::dpiv_cont ||
-                                 *sent == dsp::Method::dpiv_energy || *sent == dsp::Method::dpiv_fwd;
-    if (method == "truth" ? *sent == dsp::Method::truth : gvs_measurement) ++measured;
+    const std::optional<core::Method> sent = core::method_from_can_code(code);
+    ASSERT_TRUE(sent.has_value()) << "GVS_Method " << int{code} << " is not in core::kMethods";
+    ++method_counts[core::method_word(*sent)];
+    const bool gvs_measurement = *sent == core::Method::pair || *sent == core::Method::still ||
+                                 *sent == core::Method::blur_cont || *sent == core::Method::blur_energy ||
+                                 *sent == core::Method::blur_fwd || *sent == core::Method::dpiv_cont ||
+                                 *sent == core::Method::dpiv_energy || *sent == core::Method::dpiv_fwd;
+    if (method == "truth" ? *sent == core::Method::truth : gvs_measurement) ++measured;
   }
   std::string seen;
   for (const auto& [word, n] : method_counts) seen += " " + word + "=" + std::to_string(n);

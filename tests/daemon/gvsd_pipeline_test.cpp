@@ -26,7 +26,7 @@ class ScriptedCamera final : public FrameSource {
  public:
   ScriptedCamera(double fps, std::int64_t frames) : period_ns_(static_cast<std::int64_t>(1e9 / fps)), frames_(frames) {}
   std::string describe() const override { return "scripted"; }
-  dsp::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
+  core::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
   double nominal_fps() const override { return 1e9 / static_cast<double>(period_ns_); }
   void prepare(FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
   SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
@@ -48,7 +48,7 @@ class ScriptedCamera final : public FrameSource {
     slot.truth = FrameTruth{true, 9.99391, 0.34899, 10.0, 2.0, 0.0};
     return SourceStatus::frame;
   }
-  void set_exposure(const dsp::ExposurePlan& plan) noexcept override {
+  void set_exposure(const core::ExposurePlan& plan) noexcept override {
     plan_ = plan;
     last_exposure_us.store(plan.exposure_us);
     exposure_calls.fetch_add(1);
@@ -64,14 +64,14 @@ class ScriptedCamera final : public FrameSource {
   std::int64_t frames_;
   std::int64_t index_ = 0;
   std::int64_t base_ns_ = -1;
-  dsp::ExposurePlan plan_;
+  core::ExposurePlan plan_;
 };
 
 /// An estimator that takes `delay_ms` per frame and reports the truth.
 class SlowEstimator final : public FrameEstimator {
  public:
   explicit SlowEstimator(int delay_ms) : delay_ms_(delay_ms), inner_(make_frame_estimator("truth", {})) {}
-  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     sleep_until_ns(mono_now_ns() + delay_ms_ * kNsPerMs);
     return inner_->estimate(slot);
   }
@@ -89,8 +89,8 @@ class DoctoredTruth final : public FrameEstimator {
  public:
   DoctoredTruth(double quality, std::int64_t outlier_from, std::int64_t outlier_to)
       : quality_(quality), from_(outlier_from), to_(outlier_to), inner_(make_frame_estimator("truth", {})) {}
-  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
-    dsp::VelocityEstimate e = inner_->estimate(slot);
+  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+    core::VelocityEstimate e = inner_->estimate(slot);
     e.quality = quality_;
     if (slot.view.index >= from_ && slot.view.index <= to_) {
       e.speed_mps = e.vx_mps = e.vy_mps = e.direction_deg = 0.0;

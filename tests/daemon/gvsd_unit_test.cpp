@@ -359,7 +359,7 @@ TEST(Config, RestartOnlyChangesAreListedByKey) {
 TEST(LeverArm, YawRateMovesTheVelocityToTheReferencePoint) {
   // Car turning left at 30 deg/s, sensor 1.5 m ahead of the reference point
   // and 0.2 m to the left: v_sensor = v_ref + omega x r.
-  dsp::VelocityEstimate e;
+  core::VelocityEstimate e;
   e.has_speed = e.has_direction = e.has_yaw_rate = true;
   const double omega = 30.0 * M_PI / 180.0;
   const double vx_ref = 10.0, vy_ref = 0.0, rx = 1.5, ry = 0.2;
@@ -375,7 +375,7 @@ TEST(LeverArm, YawRateMovesTheVelocityToTheReferencePoint) {
 }
 
 TEST(LeverArm, WithoutYawRateTheEstimateStaysAtTheSensor) {
-  dsp::VelocityEstimate e;
+  core::VelocityEstimate e;
   e.has_speed = e.has_direction = true;
   e.vx_mps = 5.0;
   e.vy_mps = 1.0;
@@ -435,9 +435,9 @@ TEST(Health, LineCarriesTheCounters) {
 TEST(Health, LineNamesEachRejectReason) {
   HealthSnapshot prev;
   HealthSnapshot now;
-  prev.frames_rejected_by[static_cast<std::size_t>(RejectReason::unreadable)] = 1;
-  now.frames_rejected_by[static_cast<std::size_t>(RejectReason::unreadable)] = 2;
-  now.frames_rejected_by[static_cast<std::size_t>(RejectReason::no_light_in_exposure)] = 4;
+  prev.frames_rejected_by[static_cast<std::size_t>(dsp::RejectReason::unreadable)] = 1;
+  now.frames_rejected_by[static_cast<std::size_t>(dsp::RejectReason::unreadable)] = 2;
+  now.frames_rejected_by[static_cast<std::size_t>(dsp::RejectReason::no_light_in_exposure)] = 4;
   prev.frames_rejected = 1;
   now.frames_rejected = 6;
   const std::string line = format_health_line(now, prev, PublishedEstimate{}, 0, 5.0);

@@ -21,10 +21,10 @@ namespace {
 /// 10 m/s at 2 deg for every good frame (the camera path is under test, not the estimator).
 class ConstantEstimator final : public FrameEstimator {
  public:
-  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
-    const std::int64_t mid_ns = dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
-    if (slot.defect) return dsp::no_estimate(slot.view.index, mid_ns, reject_method(*slot.defect));
-    dsp::VelocityEstimate e;
+  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+    const std::int64_t mid_ns = core::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
+    if (slot.defect) return core::no_estimate(slot.view.index, mid_ns, dsp::reject_method(*slot.defect));
+    core::VelocityEstimate e;
     e.index = slot.view.index;
     e.t_ns = mid_ns;
     e.has_speed = true;
@@ -34,7 +34,7 @@ class ConstantEstimator final : public FrameEstimator {
     e.speed_mps = 10.0;
     e.direction_deg = 2.0;
     e.quality = 1.0;
-    e.method = dsp::Method::truth;
+    e.method = core::Method::truth;
     return e;
   }
   void reset() noexcept override {}

@@ -99,7 +99,7 @@ TEST(LibcameraSource, ExposurePlanBecomesClampedManualControls) {
   s.exposure_max_us = 3000.0;
   s.gain_min = 1.0;
   s.gain_max = 8.0;
-  dsp::ExposurePlan plan;
+  core::ExposurePlan plan;
   plan.exposure_us = 1500.0;
   drivers::CameraControls c = camera_controls_for(plan, s);
   EXPECT_EQ(c.exposure_us, 1500);
@@ -121,7 +121,7 @@ TEST(LibcameraSource, ExposurePlanBecomesClampedManualControls) {
 
 TEST(LibcameraSource, DeliversPixelsTimestampAndTheExposureActuallyApplied) {
   Rig rig;
-  dsp::ExposurePlan plan;
+  core::ExposurePlan plan;
   plan.exposure_us = 1007.0;  // the fake sensor applies whole 14 us lines: 994 us
   rig.source->set_exposure(plan);
   // Requests queued before the change still carry the old controls.
@@ -149,7 +149,7 @@ TEST(LibcameraSource, ReloadedExposureMaxClampsTheCameraFromTheNextFrames) {
   s.gain_min = 1.0;
   s.gain_max = 8.0;
   Rig rig(s);
-  dsp::ExposurePlan plan;
+  core::ExposurePlan plan;
   plan.exposure_us = 2800.0;  // 200 whole 14 us lines: the fake applies it as asked
   rig.source->set_exposure(plan);
   for (int i = 0; i < 6; ++i) ASSERT_TRUE(rig.frame());
@@ -210,7 +210,7 @@ TEST(LibcameraSource, BackwardsTimestampIsCountedAndTheFrameGetsNoEstimate) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect == RejectReason::time_backwards;
+    seen = rig.slot.defect == dsp::RejectReason::time_backwards;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().timestamps_backwards, 1u);
@@ -225,7 +225,7 @@ TEST(LibcameraSource, MissingExposureMetadataIsNeverGuessed) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect == RejectReason::no_exposure_metadata;
+    seen = rig.slot.defect == dsp::RejectReason::no_exposure_metadata;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().no_exposure_metadata, 1u);

@@ -24,7 +24,7 @@ class ScriptedStrobe final : public drivers::StrobeDriver {
  public:
   explicit ScriptedStrobe(std::shared_ptr<std::atomic<bool>> failing) : failing_(std::move(failing)) {}
   std::string describe() const override { return "scripted strobe"; }
-  bool arm(const dsp::ExposurePlan&, double) noexcept override { return true; }
+  bool arm(const core::ExposurePlan&, double) noexcept override { return true; }
   drivers::FireReport fire(std::int64_t) noexcept override {
     drivers::FireReport r;
     r.error = failing_->load();

@@ -14,17 +14,17 @@ namespace {
 constexpr std::int64_t kFrameNs = 16'666'667;  // 60 fps
 constexpr double kKmh = 1.0 / 3.6;
 
-dsp::VelocityEstimate moving(std::int64_t t_ns, double speed_mps, double direction_deg = 0.0) {
-  dsp::VelocityEstimate e;
+core::VelocityEstimate moving(std::int64_t t_ns, double speed_mps, double direction_deg = 0.0) {
+  core::VelocityEstimate e;
   e.t_ns = t_ns;
   e.has_speed = true;
-  e.has_direction = speed_mps >= dsp::VelocityEstimate::kStandstillMps;
+  e.has_direction = speed_mps >= core::VelocityEstimate::kStandstillMps;
   e.speed_mps = speed_mps;
   e.direction_deg = e.has_direction ? direction_deg : 0.0;
   e.vx_mps = speed_mps * std::cos(direction_deg * M_PI / 180.0);
   e.vy_mps = speed_mps * std::sin(direction_deg * M_PI / 180.0);
   e.quality = 0.9;
-  e.method = dsp::Method::pair;
+  e.method = core::Method::pair;
   return e;
 }
 
@@ -143,7 +143,7 @@ TEST(PlausibilityGate, DirectionFlipAtSpeedIsRejectedASpinIsNot) {
     EXPECT_EQ(gate.check(moving(t, 15.0, dir)), Plausibility::accepted) << dir;
   }
   // A direction-only estimate is checked against the tracked direction too.
-  dsp::VelocityEstimate flipped = moving(t + kFrameNs, 15.0, dir + 180.0);
+  core::VelocityEstimate flipped = moving(t + kFrameNs, 15.0, dir + 180.0);
   flipped.has_speed = false;
   EXPECT_EQ(gate.check(flipped), Plausibility::rejected);
 }
@@ -161,10 +161,10 @@ TEST(PlausibilityGate, DirectionIsFreeNearStandstill) {
 TEST(PlausibilityGate, EstimatesWithoutSpeedOrDirectionAreNotJudged) {
   PlausibilityGate gate;
   const std::int64_t t = cruise(gate, 20.0, 5);
-  const dsp::VelocityEstimate none = dsp::no_estimate(7, t, dsp::Method::dark);
+  const core::VelocityEstimate none = core::no_estimate(7, t, core::Method::dark);
   EXPECT_EQ(gate.check(none), Plausibility::unchecked);
   EXPECT_NEAR(gate.track().speed_mps, 20.0, 1e-9);
-  dsp::VelocityEstimate nan_speed = moving(t, 20.0);
+  core::VelocityEstimate nan_speed = moving(t, 20.0);
   nan_speed.speed_mps = std::nan("");
   nan_speed.has_direction = false;
   EXPECT_EQ(gate.check(nan_speed), Plausibility::unchecked) << "a NaN is no speed (the codec flags it invalid)";

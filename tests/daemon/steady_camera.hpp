@@ -15,7 +15,7 @@ namespace gvs::daemon::testing {
 class SteadyCamera final : public FrameSource {
  public:
   std::string describe() const override { return "steady"; }
-  dsp::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
+  core::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
   double nominal_fps() const override { return 100.0; }
   void prepare(FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
   SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
@@ -31,7 +31,7 @@ class SteadyCamera final : public FrameSource {
     slot.truth = FrameTruth{true, 10.0, 0.0, 10.0, 0.0, 0.0};
     return SourceStatus::frame;
   }
-  void set_exposure(const dsp::ExposurePlan&) noexcept override {}
+  void set_exposure(const core::ExposurePlan&) noexcept override {}
   bool controls_exposure() const override { return false; }
 
  private:

@@ -74,7 +74,7 @@ TEST(Dataset, WriterAndReaderRoundTrip) {
   CameraInfo cam;
   cam.geometry = {96, 64, 0.1, 12.5};
   cam.description = "round trip";
-  gvs::dsp::ExposurePlan pulsed = gvs::drivers::parse_pulses("0:20|400:20", 500.0);
+  gvs::core::ExposurePlan pulsed = gvs::drivers::parse_pulses("0:20|400:20", 500.0);
   {
     DatasetWriter w(dir, cam, true);
     for (int i = 0; i < 3; ++i) {
@@ -181,7 +181,7 @@ TEST(Dataset, MissingFolderAndHeaderColumnAreNamed) {
 
 TEST(EstimatesCsv, RoundTripKeepsAbsentFieldsAbsent) {
   const fs::path dir = fresh_dir("estimates");
-  gvs::dsp::VelocityEstimate full;
+  gvs::core::VelocityEstimate full;
   full.index = 7;
   full.t_ns = 123;
   full.has_speed = full.has_direction = full.has_yaw_rate = true;
@@ -191,31 +191,31 @@ TEST(EstimatesCsv, RoundTripKeepsAbsentFieldsAbsent) {
   full.vy_mps = 5.0;
   full.yaw_rate_dps = -4.5;
   full.quality = 0.75;
-  full.method = gvs::dsp::Method::pair;
-  gvs::dsp::VelocityEstimate direction_only;
+  full.method = gvs::core::Method::pair;
+  gvs::core::VelocityEstimate direction_only;
   direction_only.index = 8;
   direction_only.has_direction = true;
   direction_only.direction_deg = -3.25;
   direction_only.quality = 0.5;
-  direction_only.method = gvs::dsp::Method::streak_fwd;
+  direction_only.method = gvs::core::Method::streak_fwd;
   {
     gvs::drivers::EstimatesCsvWriter w(dir / "e.csv");
     w.write(full);
     w.write(direction_only);
-    w.write(gvs::dsp::no_estimate(9, 456, gvs::dsp::Method::dark));
+    w.write(gvs::core::no_estimate(9, 456, gvs::core::Method::dark));
   }
   const auto rows = gvs::drivers::read_estimates_csv(dir / "e.csv");
   ASSERT_EQ(rows.size(), 3U);
   EXPECT_TRUE(rows[0].estimate.has_speed && rows[0].estimate.has_direction && rows[0].estimate.has_yaw_rate);
   EXPECT_NEAR(rows[0].estimate.direction_deg, 30.0, 1e-4);
-  EXPECT_EQ(rows[0].estimate.method, gvs::dsp::Method::pair);
+  EXPECT_EQ(rows[0].estimate.method, gvs::core::Method::pair);
   EXPECT_FALSE(rows[1].estimate.has_speed);
   EXPECT_TRUE(rows[1].estimate.has_direction);
-  EXPECT_EQ(rows[1].estimate.method, gvs::dsp::Method::streak_fwd);
+  EXPECT_EQ(rows[1].estimate.method, gvs::core::Method::streak_fwd);
   EXPECT_FALSE(rows[2].estimate.has_speed || rows[2].estimate.has_direction || rows[2].estimate.has_yaw_rate);
   EXPECT_EQ(rows[2].estimate.quality, 0.0);
-  EXPECT_EQ(rows[2].estimate.method, gvs::dsp::Method::dark);
-  EXPECT_EQ(gvs::drivers::format_estimate_row(gvs::dsp::no_estimate(9, 456, gvs::dsp::Method::dark)),
+  EXPECT_EQ(rows[2].estimate.method, gvs::core::Method::dark);
+  EXPECT_EQ(gvs::drivers::format_estimate_row(gvs::core::no_estimate(9, 456, gvs::core::Method::dark)),
             "9,456,,,,,,0.000,dark");
 }
 
@@ -225,14 +225,14 @@ TEST(EstimatesCsv, MethodWordsRoundTripThroughTheTable) {
   const fs::path dir = fresh_dir("estimates-methods");
   {
     gvs::drivers::EstimatesCsvWriter w(dir / "e.csv");
-    for (const gvs::dsp::MethodInfo& m : gvs::dsp::kMethods) {
-      w.write(gvs::dsp::no_estimate(static_cast<std::int64_t>(m.method), 1000, m.method));
+    for (const gvs::core::MethodInfo& m : gvs::core::kMethods) {
+      w.write(gvs::core::no_estimate(static_cast<std::int64_t>(m.method), 1000, m.method));
     }
   }
   const auto rows = gvs::drivers::read_estimates_csv(dir / "e.csv");
-  ASSERT_EQ(rows.size(), gvs::dsp::kMethodCount);
+  ASSERT_EQ(rows.size(), gvs::core::kMethodCount);
   for (const auto& row : rows) {
-    const gvs::dsp::MethodInfo& m = gvs::dsp::kMethods[static_cast<std::size_t>(row.estimate.index)];
+    const gvs::core::MethodInfo& m = gvs::core::kMethods[static_cast<std::size_t>(row.estimate.index)];
     EXPECT_EQ(row.estimate.method, m.method) << m.word;
     EXPECT_EQ(gvs::drivers::format_estimate_row(row.estimate),
               std::to_string(row.estimate.index) + ",1000,,,,,,0.000," + m.word);
@@ -242,7 +242,7 @@ TEST(EstimatesCsv, MethodWordsRoundTripThroughTheTable) {
              "0,1000,1.0,0.0,1.0,0.0,,0.900,optical-flow\n1,2000,,,,,,0.000,pair\n");
   const auto other = gvs::drivers::read_estimates_csv(dir / "other.csv");
   ASSERT_EQ(other.size(), 2U);
-  EXPECT_EQ(other[0].estimate.method, gvs::dsp::Method::unknown);
+  EXPECT_EQ(other[0].estimate.method, gvs::core::Method::unknown);
   EXPECT_TRUE(other[0].estimate.has_speed);
-  EXPECT_EQ(other[1].estimate.method, gvs::dsp::Method::pair);
+  EXPECT_EQ(other[1].estimate.method, gvs::core::Method::pair);
 }

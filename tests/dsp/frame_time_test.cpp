@@ -2,7 +2,7 @@
 // the light's centre), rounded to the nearest nanosecond.
 #include <gtest/gtest.h>
 
-#include "gvs/dsp/frame.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 
 namespace gvs::dsp {
 namespace {

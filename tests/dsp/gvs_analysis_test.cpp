@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "gvs/dsp/frame_check.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/gvs_analysis.hpp"
 #include "gvs_synth.hpp"
 

@@ -10,7 +10,7 @@
 
 #include "gvs/dsp/blur_analysis.hpp"
 #include "gvs/dsp/frame_check.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/phase_correlation.hpp"
 #include "gvs/dsp/spectrum.hpp"
 #include "gvs_synth.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "gvs/dsp/estimator.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/gvs_estimator.hpp"
 #include "gvs_synth.hpp"
 

@@ -13,7 +13,7 @@
 
 #include "gvs/drivers/simulator.hpp"
 #include "gvs/dsp/exposure_control.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/gvs_estimator.hpp"
 
 namespace gvs::test {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/thesis.hpp"
 #include "thesis_synth.hpp"
 

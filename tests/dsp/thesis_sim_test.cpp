@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "gvs/drivers/simulator.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/thesis.hpp"
 
 namespace gvs::dsp {

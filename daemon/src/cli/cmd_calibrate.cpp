@@ -19,8 +19,8 @@
 #include "commands.hpp"
 #include "usage.hpp"
 #include "gvs/daemon/config_edit.hpp"
-#include "gvs/daemon/replay.hpp"
-#include "gvs/drivers/checkerboard.hpp"
+#include "gvs/eval/replay.hpp"
+#include "gvs/dsp/checkerboard.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/dsp/calibration.hpp"
 
@@ -68,7 +68,7 @@ void run_scale(const ScaleOptions& o) {
   const cv::Size inner = parse_inner(o.inner_corners);
   const cv::Mat gray = cv::imread(o.image, cv::IMREAD_GRAYSCALE);
   if (gray.empty()) throw std::runtime_error(o.image + ": cannot be read as an image");
-  const auto m = drivers::measure_checkerboard(gray, inner, o.square_mm);
+  const auto m = dsp::measure_checkerboard(gray, inner, o.square_mm);
   if (!m) {
     throw std::runtime_error(o.image + ": no checkerboard of " + o.inner_corners +
                              " inner corners found; is the whole board in view, lit and in focus?");
@@ -91,11 +91,11 @@ void run_scale(const ScaleOptions& o) {
 void run_yaw(const YawOptions& o) {
   check_config_target(o.config, o.create_config);
   const drivers::DatasetReader dataset(o.dataset);
-  daemon::FrameProcessorConfig config;
+  dsp::FrameProcessorConfig config;
   config.estimator.method = o.method;
   std::vector<double> directions;
   const double min_mps = o.min_speed_kmh / 3.6;
-  daemon::replay_dataset(dataset, config, [&](const dsp::VelocityEstimate& e) {
+  eval::replay_dataset(dataset, config, [&](const core::VelocityEstimate& e) {
     if (e.has_direction && (!e.has_speed || e.speed_mps >= min_mps)) directions.push_back(e.direction_deg);
   });
   const double configured = dataset.camera().geometry.mount_yaw_deg;

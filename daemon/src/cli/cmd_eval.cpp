@@ -11,7 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
-#include "gvs/daemon/accuracy.hpp"
+#include "gvs/eval/accuracy.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
 
@@ -62,7 +62,7 @@ void write_joined_csv(const fs::path& file, const std::vector<drivers::TruthReco
     out << ',' << t.yaw_rate_dps << ',';
     const auto it = by_index.find(t.index);
     if (it != by_index.end()) {
-      const dsp::VelocityEstimate& e = it->second->estimate;
+      const core::VelocityEstimate& e = it->second->estimate;
       if (e.has_speed) out << e.speed_mps;
       out << ',';
       if (e.has_direction) out << e.direction_deg;
@@ -83,12 +83,12 @@ void run_eval(const EvalOptions& o) {
                                 ": missing; gvs eval needs ground truth (gvs sim writes it)");
   }
   const auto estimates = drivers::read_estimates_csv(o.estimates);
-  const daemon::AccuracyReport report = daemon::evaluate_accuracy(dataset.truth(), estimates);
-  std::printf("%s", daemon::format_accuracy_table(report).c_str());
+  const eval::AccuracyReport report = eval::evaluate_accuracy(dataset.truth(), estimates);
+  std::printf("%s", eval::format_accuracy_table(report).c_str());
   if (!o.json.empty()) {
     std::ofstream out(o.json);
     if (!out) throw std::runtime_error(o.json + ": cannot write");
-    out << daemon::format_accuracy_json(report) << '\n';
+    out << eval::format_accuracy_json(report) << '\n';
   }
   if (!o.plot.empty()) {
     const fs::path joined = fs::path(o.plot).replace_extension(".plotdata.csv");

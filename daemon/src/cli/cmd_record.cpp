@@ -25,7 +25,7 @@
 #include "usage.hpp"
 #include "gvs/daemon/clock.hpp"
 #include "gvs/drivers/dataset.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 #include "live_source.hpp"
 
 namespace gvs::cli {
@@ -51,7 +51,7 @@ struct PendingFrame {
 /// out (index gaps) and counted.
 class BackgroundWriter {
  public:
-  BackgroundWriter(drivers::DatasetWriter& writer, bool with_truth, const dsp::CameraGeometry& g, std::size_t pool)
+  BackgroundWriter(drivers::DatasetWriter& writer, bool with_truth, const core::CameraGeometry& g, std::size_t pool)
       : writer_(writer), with_truth_(with_truth) {
     for (std::size_t i = 0; i < pool; ++i) free_.push_back(cv::Mat(g.height_px, g.width_px, CV_8UC1));
     thread_ = std::thread([this] { run(); });
@@ -112,7 +112,7 @@ class BackgroundWriter {
     if (!with_truth_ || !f.truth.known) return;
     drivers::TruthRecord truth;
     truth.index = f.record.index;
-    truth.t_ns = dsp::mid_exposure_ns(f.record.t_ns, f.record.exposure);
+    truth.t_ns = core::mid_exposure_ns(f.record.t_ns, f.record.exposure);
     truth.vx_mps = f.truth.vx_mps;
     truth.vy_mps = f.truth.vy_mps;
     truth.speed_mps = f.truth.speed_mps;

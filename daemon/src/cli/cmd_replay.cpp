@@ -10,7 +10,7 @@
 #include "progress.hpp"
 #include "usage.hpp"
 #include "gvs/daemon/config.hpp"
-#include "gvs/daemon/replay.hpp"
+#include "gvs/eval/replay.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
 
@@ -28,7 +28,7 @@ struct ReplayCliOptions {
 
 void run_replay(const ReplayCliOptions& o) {
   const drivers::DatasetReader dataset(o.dataset);
-  daemon::FrameProcessorConfig config;
+  dsp::FrameProcessorConfig config;
   if (!o.config_file.empty()) {
     // The estimator settings of a gvsd configuration; the camera geometry
     // stays the dataset's own (camera.json describes the frames).
@@ -37,13 +37,13 @@ void run_replay(const ReplayCliOptions& o) {
   if (!o.method.empty()) config.estimator.method = o.method;
 
   drivers::EstimatesCsvWriter writer(o.out);
-  daemon::ReplayOptions options;
+  eval::ReplayOptions options;
   options.time_reference_dft = o.timing;
   std::size_t done = 0;
   auto progress = std::make_unique<Progress>("gvs replay", dataset.frames().size());
-  const daemon::ReplayStats stats = daemon::replay_dataset(
+  const eval::ReplayStats stats = eval::replay_dataset(
       dataset, config,
-      [&](const dsp::VelocityEstimate& e) {
+      [&](const core::VelocityEstimate& e) {
         writer.write(e);
         progress->update(++done);
       },

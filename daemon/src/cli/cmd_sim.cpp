@@ -13,7 +13,7 @@
 #include "usage.hpp"
 #include "live_source.hpp"
 #include "progress.hpp"
-#include "gvs/daemon/frame_processor.hpp"
+#include "gvs/dsp/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
 #include "gvs/dsp/exposure_control.hpp"
@@ -96,13 +96,13 @@ void run_sim(const SimOptions& o) {
   // exposure controller plans the next frame's exposure from that estimate.
   dsp::ExposureMode mode = dsp::ExposureMode::fixed;
   dsp::parse_exposure_mode(o.exposure_mode.c_str(), mode);
-  std::unique_ptr<daemon::FrameProcessor> loop;
+  std::unique_ptr<dsp::FrameProcessor> loop;
   dsp::ExposureLimits limits;
   if (mode != dsp::ExposureMode::fixed) {
-    daemon::FrameProcessorConfig pc;
+    dsp::FrameProcessorConfig pc;
     pc.estimator.method = o.loop_method;
     pc.estimator.camera = config.camera;
-    loop = std::make_unique<daemon::FrameProcessor>(pc);
+    loop = std::make_unique<dsp::FrameProcessor>(pc);
     limits = dsp::exposure_limits_for(config.camera, config.fps);
     limits.max_exposure_us = config.exposure_us;
   }
@@ -117,12 +117,12 @@ void run_sim(const SimOptions& o) {
     ++count;
     progress->update(count);
     if (loop) {
-      dsp::FrameView view;
+      core::FrameView view;
       view.gray = frame.gray;
       view.index = frame.record.index;
       view.t_ns = frame.record.t_ns;
       view.exposure = frame.record.exposure;
-      const dsp::VelocityEstimate e = loop->process(view);
+      const core::VelocityEstimate e = loop->process(view);
       sim.set_exposure(dsp::next_exposure(e, frame.record.exposure, mode, limits));
     }
   }

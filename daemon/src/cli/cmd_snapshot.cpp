@@ -23,10 +23,10 @@
 #include "commands.hpp"
 #include "usage.hpp"
 #include "live_source.hpp"
-#include "gvs/daemon/frame_processor.hpp"
+#include "gvs/dsp/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/dsp/frame_check.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/core/geometry.hpp"
 #include "gvs/dsp/spectrum.hpp"
 #include "gvs/dsp/thesis_fft.hpp"
 
@@ -64,8 +64,8 @@ cv::Mat spectrum_image(const cv::Mat& gray) {
 }
 
 /// The frame with the estimate drawn on it and its spectrum beside it.
-void draw_snapshot(const cv::Mat& gray, const dsp::VelocityEstimate& e, std::int64_t index,
-                   const dsp::ExposurePlan& exposure, double mount_yaw_deg, const std::string& out_file) {
+void draw_snapshot(const cv::Mat& gray, const core::VelocityEstimate& e, std::int64_t index,
+                   const core::ExposurePlan& exposure, double mount_yaw_deg, const std::string& out_file) {
   const dsp::FrameStats stats = dsp::measure_frame(gray);
 
   cv::Mat left;
@@ -79,8 +79,8 @@ void draw_snapshot(const cv::Mat& gray, const dsp::VelocityEstimate& e, std::int
     // Ground motion in the image: a ground point moves by
     // (d_row, d_col) = (v_x, v_y) of the velocity in camera axes
     // (shared/spec/dataset-format.md); the car's own direction is opposite.
-    const dsp::Vec2 v_cam = dsp::vehicle_to_camera({std::cos(dsp::deg_to_rad(e.direction_deg)),
-                                                    std::sin(dsp::deg_to_rad(e.direction_deg))},
+    const core::Vec2 v_cam = core::vehicle_to_camera({std::cos(core::deg_to_rad(e.direction_deg)),
+                                                    std::sin(core::deg_to_rad(e.direction_deg))},
                                                    mount_yaw_deg);
     const cv::Point2d d(v_cam.y * arm, v_cam.x * arm);  // (x = col, y = row)
     cv::line(left, centre - d, centre + d, cv::Scalar(0, 200, 255), 1, cv::LINE_AA);  // blur axis
@@ -92,11 +92,11 @@ void draw_snapshot(const cv::Mat& gray, const dsp::VelocityEstimate& e, std::int
   const std::string line1 =
       e.quality > 0.0
           ? fmt::format("frame {}  {}  speed {}  direction {}  yaw {}  quality {:.2f}", index,
-                        dsp::method_word(e.method),
+                        core::method_word(e.method),
                         e.has_speed ? fmt::format("{:.2f} m/s", e.speed_mps) : std::string("-"),
                         e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
                         e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality)
-          : fmt::format("frame {}  no estimate: {}", index, dsp::method_word(e.method));
+          : fmt::format("frame {}  no estimate: {}", index, core::method_word(e.method));
   const std::string line2 = fmt::format(
       "exposure {:.1f} us, {} pulse(s)   mean grey {:.0f}  contrast {:.1f}  saturated {:.1f} %   "
       "green: ground motion, orange: blur axis   right: spectrum",
@@ -118,16 +118,16 @@ void snapshot_from_dataset(const SnapshotOptions& o) {
     throw std::runtime_error(o.dataset + ": --frame " + std::to_string(o.frame) + " but the dataset has " +
                              std::to_string(n) + " frames");
   }
-  daemon::FrameProcessorConfig config;
+  dsp::FrameProcessorConfig config;
   config.estimator.method = o.method;
   config.estimator.camera = dataset.camera().geometry;
-  daemon::FrameProcessor processor(config);
+  dsp::FrameProcessor processor(config);
   // The frames before it too: pair methods and the sign need the history.
-  dsp::VelocityEstimate e;
+  core::VelocityEstimate e;
   cv::Mat gray;
   for (long i = std::max(0L, target - 5); i <= target; ++i) {
     const drivers::FrameRecord& rec = dataset.frames()[static_cast<std::size_t>(i)];
-    dsp::FrameView v;
+    core::FrameView v;
     gray = dataset.load_gray(static_cast<std::size_t>(i));
     v.gray = gray;
     v.index = rec.index;
@@ -142,12 +142,12 @@ void snapshot_from_dataset(const SnapshotOptions& o) {
 /// The live source: a few frames (pair methods and the sign need history), the last one drawn.
 void snapshot_live(const SnapshotOptions& o) {
   LiveSource live = open_live_source(o.config_file, o.source_uri);
-  daemon::FrameProcessorConfig config;
+  dsp::FrameProcessorConfig config;
   config.estimator.method = o.method;
   config.estimator.camera = live.source->geometry();
-  daemon::FrameProcessor processor(config);
+  dsp::FrameProcessor processor(config);
   install_stop_signals();
-  dsp::VelocityEstimate e;
+  core::VelocityEstimate e;
   int frames = 0, errors = 0;
   while (frames < 6) {
     const daemon::SourceStatus st = live.source->next(live.slot, stop_requested());

@@ -22,7 +22,7 @@ LiveSource open_live_source(const std::string& config_file, const std::string& s
   if (!source_uri.empty()) live.config.source_uri = source_uri;
   live.source = daemon::make_frame_source(live.config);
   live.source->prepare(live.slot);
-  dsp::ExposurePlan plan;
+  core::ExposurePlan plan;
   plan.exposure_us = live.config.exposure_initial_us;
   live.source->set_exposure(plan);
   return live;

@@ -29,7 +29,7 @@ void Pipeline::capture_loop() noexcept {
     // Closed-loop exposure: the newest plan from the processing thread.
     const std::uint64_t version = exposure_request_.version();
     if (version != applied_exposure) {
-      const dsp::ExposurePlan plan = exposure_request_.read();
+      const core::ExposurePlan plan = exposure_request_.read();
       if (source_->controls_exposure()) {
         source_->set_exposure(plan);
         bump(counters_.exposure_updates);
@@ -86,7 +86,7 @@ void Pipeline::fire_light() noexcept {
   if (r.error) bump(counters_.light_errors);
   raise_max(counters_.light_late_max_ns, r.max_late_ns);
   // Keep the newest on-intervals, oldest first (a frame's exposure may span two fires).
-  std::array<drivers::LitInterval, dsp::ExposurePlan::kMaxPulses + 1> fresh{};
+  std::array<drivers::LitInterval, core::ExposurePlan::kMaxPulses + 1> fresh{};
   const std::size_t n = drivers::led_intervals(light_->last_edges(), fresh);
   for (std::size_t i = 0; i < n; ++i) {
     if (lit_count_ == lit_.size()) {
@@ -101,12 +101,12 @@ void Pipeline::stamp_light(FrameSlot& slot) noexcept {
   // The camera said how long its shutter was open; the light is what the LED
   // ring's measured edges put inside that time. None: the frame is dark for
   // a reason the estimator must not guess at.
-  dsp::ExposurePlan lit;
+  core::ExposurePlan lit;
   const std::span<const drivers::LitInterval> history(lit_.data(), lit_count_);
   if (drivers::light_in_exposure(history, slot.view.t_ns, slot.view.exposure.exposure_us, lit)) {
     slot.view.exposure = lit;
   } else if (!slot.defect) {
-    slot.defect = RejectReason::no_light_in_exposure;
+    slot.defect = dsp::RejectReason::no_light_in_exposure;
   }
 }
 

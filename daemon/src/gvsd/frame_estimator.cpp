@@ -3,43 +3,43 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "gvs/daemon/frame_processor.hpp"
+#include "gvs/dsp/frame_processor.hpp"
 #include "gvs/dsp/estimator.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/core/geometry.hpp"
 
 namespace gvs::daemon {
 
 namespace {
 
 /// A dsp estimator from the factory, behind the frame checks of
-/// FrameProcessor: the very code `gvs replay` runs.
+/// dsp::FrameProcessor: the very code `gvs replay` runs.
 class DspEstimator final : public FrameEstimator {
  public:
-  explicit DspEstimator(const FrameProcessorConfig& config) : processor_(config) {}
-  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  explicit DspEstimator(const dsp::FrameProcessorConfig& config) : processor_(config) {}
+  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     if (slot.defect) return processor_.reject(slot.view, *slot.defect);
     return processor_.process(slot.view);
   }
   void reset() noexcept override { processor_.reset(); }
-  [[nodiscard]] RejectCounts rejected_frames() const noexcept override { return processor_.rejects().by_reason; }
+  [[nodiscard]] dsp::RejectCounts rejected_frames() const noexcept override { return processor_.rejects().by_reason; }
   [[nodiscard]] std::string name() const override { return processor_.config().estimator.method; }
 
  private:
-  FrameProcessor processor_;
+  dsp::FrameProcessor processor_;
 };
 
 /// Reports the truth the source carries (simulator; replay with truth.csv):
 /// checks the daemon's timing and CAN path without an estimator's errors.
 class TruthEstimator final : public FrameEstimator {
  public:
-  dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
-    const std::int64_t mid_ns = dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
-    if (!slot.truth.known) return dsp::no_estimate(slot.view.index, mid_ns, dsp::Method::none);
-    dsp::VelocityEstimate e;
+  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+    const std::int64_t mid_ns = core::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
+    if (!slot.truth.known) return core::no_estimate(slot.view.index, mid_ns, core::Method::none);
+    core::VelocityEstimate e;
     e.index = slot.view.index;
     e.t_ns = mid_ns;
     e.has_speed = true;
-    e.has_direction = slot.truth.speed_mps >= dsp::VelocityEstimate::kStandstillMps;
+    e.has_direction = slot.truth.speed_mps >= core::VelocityEstimate::kStandstillMps;
     e.has_yaw_rate = true;
     e.vx_mps = slot.truth.vx_mps;
     e.vy_mps = slot.truth.vy_mps;
@@ -47,7 +47,7 @@ class TruthEstimator final : public FrameEstimator {
     e.direction_deg = slot.truth.direction_deg;
     e.yaw_rate_dps = slot.truth.yaw_rate_dps;
     e.quality = 1.0;
-    e.method = dsp::Method::truth;
+    e.method = core::Method::truth;
     return e;
   }
   void reset() noexcept override {}
@@ -56,7 +56,7 @@ class TruthEstimator final : public FrameEstimator {
 
 }  // namespace
 
-dsp::VelocityEstimate FrameEstimator::estimate(const FrameSlot& slot) noexcept {
+core::VelocityEstimate FrameEstimator::estimate(const FrameSlot& slot) noexcept {
   try {
     return estimate_frame(slot);
   } catch (...) {
@@ -66,14 +66,14 @@ dsp::VelocityEstimate FrameEstimator::estimate(const FrameSlot& slot) noexcept {
   }
   ++exceptions_;
   reset();
-  return dsp::no_estimate(slot.view.index, dsp::mid_exposure_ns(slot.view.t_ns, slot.view.exposure),
-                          dsp::Method::estimator_exception);
+  return core::no_estimate(slot.view.index, core::mid_exposure_ns(slot.view.t_ns, slot.view.exposure),
+                          core::Method::estimator_exception);
 }
 
 std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
-                                                     const dsp::CameraGeometry& geometry) {
+                                                     const core::CameraGeometry& geometry) {
   if (method == "truth") return std::make_unique<TruthEstimator>();
-  FrameProcessorConfig config;
+  dsp::FrameProcessorConfig config;
   config.estimator.method = method;
   config.estimator.camera = geometry;
   try {
@@ -84,15 +84,15 @@ std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
   }
 }
 
-void apply_lever_arm(dsp::VelocityEstimate& e, double lever_arm_x_m, double lever_arm_y_m) noexcept {
+void apply_lever_arm(core::VelocityEstimate& e, double lever_arm_x_m, double lever_arm_y_m) noexcept {
   if (lever_arm_x_m == 0.0 && lever_arm_y_m == 0.0) return;
   if (!e.has_yaw_rate || !e.has_velocity_xy()) return;
-  const double omega = dsp::deg_to_rad(e.yaw_rate_dps);
+  const double omega = core::deg_to_rad(e.yaw_rate_dps);
   e.vx_mps += omega * lever_arm_y_m;
   e.vy_mps -= omega * lever_arm_x_m;
   e.speed_mps = std::hypot(e.vx_mps, e.vy_mps);
-  e.has_direction = e.speed_mps >= dsp::VelocityEstimate::kStandstillMps;
-  e.direction_deg = e.has_direction ? dsp::direction_deg({e.vx_mps, e.vy_mps}) : 0.0;
+  e.has_direction = e.speed_mps >= core::VelocityEstimate::kStandstillMps;
+  e.direction_deg = e.has_direction ? core::direction_deg({e.vx_mps, e.vy_mps}) : 0.0;
 }
 
 }  // namespace gvs::daemon

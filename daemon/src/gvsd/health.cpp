@@ -8,22 +8,22 @@ namespace {
 
 std::string estimate_text(const PublishedEstimate& latest, std::int64_t now_ns) {
   if (latest.sequence == 0) return "no estimate yet";
-  const dsp::VelocityEstimate& e = latest.estimate;
+  const core::VelocityEstimate& e = latest.estimate;
   const double age_ms = static_cast<double>(now_ns - e.t_ns) / 1e6;
-  if (!e.has_speed) return fmt::format("no speed ({}), age {:.0f} ms", dsp::method_word(e.method), age_ms);
+  if (!e.has_speed) return fmt::format("no speed ({}), age {:.0f} ms", core::method_word(e.method), age_ms);
   return fmt::format("{:.2f} m/s, direction {}, yaw {}, quality {:.2f}, {}{}, age {:.0f} ms", e.speed_mps,
                      e.has_direction ? fmt::format("{:+.2f} deg", e.direction_deg) : std::string("-"),
                      e.has_yaw_rate ? fmt::format("{:+.1f} deg/s", e.yaw_rate_dps) : std::string("-"), e.quality,
-                     dsp::method_word(e.method), latest.plausible ? "" : ", implausible (held back)", age_ms);
+                     core::method_word(e.method), latest.plausible ? "" : ", implausible (held back)", age_ms);
 }
 
 /// The rejected frames per reason that occurred, e.g. " [unreadable 2 (+1), wrong-size 1 (+0)]".
 std::string reject_text(const HealthSnapshot& n, const HealthSnapshot& p) {
   std::string out;
-  for (const RejectReasonInfo& r : kRejectReasons) {
+  for (const dsp::RejectReasonInfo& r : dsp::kRejectReasons) {
     const auto i = static_cast<std::size_t>(r.reason);
     if (n.frames_rejected_by[i] == 0) continue;
-    out += fmt::format("{}{} {} (+{})", out.empty() ? " [" : ", ", reject_word(r.reason), n.frames_rejected_by[i],
+    out += fmt::format("{}{} {} (+{})", out.empty() ? " [" : ", ", dsp::reject_word(r.reason), n.frames_rejected_by[i],
                        n.frames_rejected_by[i] - p.frames_rejected_by[i]);
   }
   if (!out.empty()) out += ']';

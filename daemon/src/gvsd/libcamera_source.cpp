@@ -37,11 +37,11 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
                            ". Set [source] uri = \"libcamera:<one of them>\", or \"libcamera\" for the first");
 }
 
-drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s) {
+drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s) {
   return camera_controls_for(plan, s, s.exposure_max_us);
 }
 
-drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s,
+drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
                                             double exposure_max_us) {
   const double period_us = 1e6 / s.fps;
   const double longest_us = std::max(s.exposure_min_us, std::min(exposure_max_us, 0.9 * period_us));
@@ -121,7 +121,7 @@ drivers::CameraControls LibcameraSource::current_controls() const noexcept {
   return c;
 }
 
-void LibcameraSource::set_exposure(const dsp::ExposurePlan& plan) noexcept {
+void LibcameraSource::set_exposure(const core::ExposurePlan& plan) noexcept {
   plan_ = plan;
   apply_exposure(exposure_max_us_.load(std::memory_order_relaxed));
 }
@@ -171,11 +171,11 @@ void LibcameraSource::request_completed(const drivers::CompletedRequest& done) n
     h->defect.reset();
     if (done.exposure_us <= 0) {
       bump(counters_.no_exposure_metadata);
-      h->defect = RejectReason::no_exposure_metadata;  // never guess the exposure the speed is measured with
+      h->defect = dsp::RejectReason::no_exposure_metadata;  // never guess the exposure the speed is measured with
     }
     if (done.sensor_timestamp_ns <= last_t_ns_ || done.sensor_timestamp_ns < 0) {
       bump(counters_.timestamps_backwards);
-      h->defect = RejectReason::time_backwards;
+      h->defect = dsp::RejectReason::time_backwards;
     } else {
       last_t_ns_ = done.sensor_timestamp_ns;
     }
@@ -211,7 +211,7 @@ SourceStatus LibcameraSource::next(FrameSlot& slot, const std::atomic<bool>& sto
       std::memcpy(slot.view.gray.data, h->pixels.data(), frame_bytes_);
       slot.view.index = h->index;
       slot.view.t_ns = h->t_ns;
-      slot.view.exposure = dsp::ExposurePlan{};  // continuous light for the applied time (no strobe sync)
+      slot.view.exposure = core::ExposurePlan{};  // continuous light for the applied time (no strobe sync)
       slot.view.exposure.exposure_us = h->exposure_us;
       slot.defect = h->defect;
       slot.truth = FrameTruth{};

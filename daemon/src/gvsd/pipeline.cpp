@@ -51,7 +51,7 @@ Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<FrameSource> sour
   if (config.status_period_ms % config.period_ms != 0) {
     throw std::invalid_argument("Pipeline: status_period_ms must be a multiple of period_ms");
   }
-  dsp::ExposurePlan initial;
+  core::ExposurePlan initial;
   initial.exposure_us = config.exposure_initial_us;
   exposure_request_.write(initial);
   apply_reloadable(config);

@@ -9,8 +9,8 @@ namespace {
 
 constexpr double kDegPerRad = 57.29577951308232;
 
-bool usable_speed(const dsp::VelocityEstimate& e) { return e.has_speed && std::isfinite(e.speed_mps); }
-bool usable_direction(const dsp::VelocityEstimate& e) {
+bool usable_speed(const core::VelocityEstimate& e) { return e.has_speed && std::isfinite(e.speed_mps); }
+bool usable_direction(const core::VelocityEstimate& e) {
   return e.has_direction && std::isfinite(e.direction_deg);
 }
 
@@ -26,7 +26,7 @@ double angle_between_deg(double a, double b) {
 
 /// Takes the quantities `e` has into `t`; a speed without a direction
 /// (standstill) forgets the direction: the car may leave in any.
-void take(PlausibilityGate::Track& t, const dsp::VelocityEstimate& e) {
+void take(PlausibilityGate::Track& t, const core::VelocityEstimate& e) {
   if (usable_speed(e)) {
     t.has_speed = true;
     t.speed_mps = e.speed_mps;
@@ -40,7 +40,7 @@ void take(PlausibilityGate::Track& t, const dsp::VelocityEstimate& e) {
   }
 }
 
-PlausibilityGate::Track track_of(const dsp::VelocityEstimate& e) {
+PlausibilityGate::Track track_of(const core::VelocityEstimate& e) {
   PlausibilityGate::Track t;
   take(t, e);
   return t;
@@ -66,7 +66,7 @@ void PlausibilityGate::reset() noexcept {
   candidate_count_ = 0;
 }
 
-bool PlausibilityGate::consistent(const Track& from, const dsp::VelocityEstimate& e) const noexcept {
+bool PlausibilityGate::consistent(const Track& from, const core::VelocityEstimate& e) const noexcept {
   const PlausibilityLimits& l = limits_;
   // Speed: |d|v|/dt| <= |a| for any motion, turning or not, so
   // |v_new - v_track| <= a_max * dt + max(noise, fraction * v_track).
@@ -92,7 +92,7 @@ bool PlausibilityGate::consistent(const Track& from, const dsp::VelocityEstimate
   return true;
 }
 
-Plausibility PlausibilityGate::check(const dsp::VelocityEstimate& e) noexcept {
+Plausibility PlausibilityGate::check(const core::VelocityEstimate& e) noexcept {
   if (!usable_speed(e) && !usable_direction(e)) return Plausibility::unchecked;
 
   const std::int64_t newest_t_ns = std::max(track_.has_speed ? track_.speed_t_ns : INT64_MIN,

@@ -9,9 +9,9 @@ namespace gvs::daemon {
 
 namespace {
 
-bool same_plan(const dsp::ExposurePlan& a, const dsp::ExposurePlan& b) {
+bool same_plan(const core::ExposurePlan& a, const core::ExposurePlan& b) {
   if (a.exposure_us != b.exposure_us || a.pulse_count != b.pulse_count) return false;
-  for (std::size_t i = 0; i < std::min(a.pulse_count, dsp::ExposurePlan::kMaxPulses); ++i) {
+  for (std::size_t i = 0; i < std::min(a.pulse_count, core::ExposurePlan::kMaxPulses); ++i) {
     if (a.pulses[i].start_us != b.pulses[i].start_us || a.pulses[i].duration_us != b.pulses[i].duration_us) {
       return false;
     }
@@ -24,7 +24,7 @@ bool same_plan(const dsp::ExposurePlan& a, const dsp::ExposurePlan& b) {
 void Pipeline::processing_loop() noexcept {
   constexpr std::int64_t kIdleWaitNs = 20 * kNsPerMs;  // heartbeat and stop check without frames
   std::uint64_t published = 0;
-  dsp::ExposurePlan plan = exposure_request_.read();
+  core::ExposurePlan plan = exposure_request_.read();
 
   while (!stop_.load(std::memory_order_relaxed)) {
     bump(counters_.processing_heartbeat);
@@ -37,13 +37,13 @@ void Pipeline::processing_loop() noexcept {
     if (skipped != 0) bump(counters_.frames_skipped, skipped);
 
     const std::int64_t t0 = mono_now_ns();
-    dsp::VelocityEstimate e = estimator_->estimate(*slot);
+    core::VelocityEstimate e = estimator_->estimate(*slot);
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
     const std::int64_t t1 = mono_now_ns();
     if (!e.has_speed) bump(counters_.estimator_failures);
-    const RejectCounts rejected = estimator_->rejected_frames();
+    const dsp::RejectCounts rejected = estimator_->rejected_frames();
     std::uint64_t rejected_total = 0;
-    for (std::size_t i = 0; i < kRejectReasonCount; ++i) {
+    for (std::size_t i = 0; i < dsp::kRejectReasonCount; ++i) {
       counters_.frames_rejected_by[i].store(rejected[i], std::memory_order_relaxed);
       rejected_total += rejected[i];
     }
@@ -70,7 +70,7 @@ void Pipeline::processing_loop() noexcept {
 
     if (source_->controls_exposure()) {
       const ExposureSettings s = exposure_settings_.read();
-      const dsp::ExposurePlan next = dsp::next_exposure(e, slot->view.exposure, plan, s.mode, s.limits);
+      const core::ExposurePlan next = dsp::next_exposure(e, slot->view.exposure, plan, s.mode, s.limits);
       if (!same_plan(next, plan)) {
         plan = next;
         exposure_request_.write(plan);

@@ -15,7 +15,7 @@ namespace {
 
 /// What start-up checks of a dataset's index before it decodes a frame.
 void check_index(const std::filesystem::path& folder, const std::vector<drivers::FrameRecord>& records,
-                 const dsp::CameraGeometry& geometry, double preload_limit_mb) {
+                 const core::CameraGeometry& geometry, double preload_limit_mb) {
   if (records.empty()) throw std::runtime_error(folder.string() + ": the dataset has no frames");
   const double mb = static_cast<double>(records.size()) * geometry.width_px * geometry.height_px / 1048576.0;
   if (mb > preload_limit_mb) {
@@ -29,7 +29,7 @@ void check_index(const std::filesystem::path& folder, const std::vector<drivers:
 
 }  // namespace
 
-dsp::CameraGeometry ReplaySource::check(const std::filesystem::path& folder, double preload_limit_mb) {
+core::CameraGeometry ReplaySource::check(const std::filesystem::path& folder, double preload_limit_mb) {
   try {
     const drivers::DatasetReader reader(folder);
     check_index(folder, reader.frames(), reader.camera().geometry, preload_limit_mb);
@@ -58,13 +58,13 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_l
         gray = reader.load_gray(i);
       } catch (const drivers::DatasetError& e) {
         spdlog::warn("replay: frame {} gets no estimate: {}", records_[i].index, e.what());
-        defects_[i] = RejectReason::unreadable;
+        defects_[i] = dsp::RejectReason::unreadable;
       }
       if (!defects_[i] && (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px)) {
         spdlog::warn("replay: frame {} gets no estimate: {} is {}x{} px but camera.json says {}x{}",
                      records_[i].index, records_[i].file, gray.cols, gray.rows, geometry_.width_px,
                      geometry_.height_px);
-        defects_[i] = RejectReason::wrong_size;
+        defects_[i] = dsp::RejectReason::wrong_size;
         gray.release();
       }
       if (!defects_[i]) ++good;

@@ -23,22 +23,22 @@ class ReplaySource final : public FrameSource {
   ReplaySource(const std::filesystem::path& folder, double preload_limit_mb);
   /// The constructor's checks of the dataset's index, without decoding a
   /// frame (gvsd --check-config). Returns the dataset's geometry.
-  static dsp::CameraGeometry check(const std::filesystem::path& folder, double preload_limit_mb);
+  static core::CameraGeometry check(const std::filesystem::path& folder, double preload_limit_mb);
 
   [[nodiscard]] std::string describe() const override;
-  [[nodiscard]] dsp::CameraGeometry geometry() const override { return geometry_; }
+  [[nodiscard]] core::CameraGeometry geometry() const override { return geometry_; }
   [[nodiscard]] double nominal_fps() const override { return fps_; }
   void prepare(FrameSlot& slot) override;
   SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
-  void set_exposure(const dsp::ExposurePlan&) noexcept override {}
+  void set_exposure(const core::ExposurePlan&) noexcept override {}
   [[nodiscard]] bool controls_exposure() const override { return false; }
 
  private:
   std::filesystem::path folder_;
-  dsp::CameraGeometry geometry_;
+  core::CameraGeometry geometry_;
   std::vector<drivers::FrameRecord> records_;
   std::vector<cv::Mat> frames_;
-  std::vector<std::optional<RejectReason>> defects_;  ///< per frame: none, unreadable or wrong_size
+  std::vector<std::optional<dsp::RejectReason>> defects_;  ///< per frame: none, unreadable or wrong_size
   std::vector<FrameTruth> truth_;
   double fps_ = 0.0;
   std::size_t next_ = 0;

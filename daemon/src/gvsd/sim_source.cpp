@@ -85,7 +85,7 @@ SourceStatus SimSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noe
   return SourceStatus::frame;
 }
 
-void SimSource::set_exposure(const dsp::ExposurePlan& plan) noexcept {
+void SimSource::set_exposure(const core::ExposurePlan& plan) noexcept {
   try {
     sim_.set_exposure(plan);  // checks the plan against the frame period
     plan_ = plan;

@@ -16,18 +16,18 @@ class SimSource final : public FrameSource {
   explicit SimSource(const drivers::SimulatorConfig& config);
 
   [[nodiscard]] std::string describe() const override;
-  [[nodiscard]] dsp::CameraGeometry geometry() const override { return config_.camera; }
+  [[nodiscard]] core::CameraGeometry geometry() const override { return config_.camera; }
   [[nodiscard]] double nominal_fps() const override { return config_.fps; }
   void prepare(FrameSlot& slot) override;
   SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
-  void set_exposure(const dsp::ExposurePlan& plan) noexcept override;
+  void set_exposure(const core::ExposurePlan& plan) noexcept override;
   [[nodiscard]] bool controls_exposure() const override { return true; }
 
  private:
   drivers::Simulator sim_;
   drivers::SimulatorConfig config_;
   drivers::SimFrame scratch_;  ///< record/truth scratch; its gray points at the slot being filled
-  dsp::ExposurePlan plan_;     ///< exposure of the next frame (closed loop)
+  core::ExposurePlan plan_;     ///< exposure of the next frame (closed loop)
   std::int64_t period_ns_ = 0;
   std::int64_t base_ns_ = -1;  ///< monotonic start of frame 0's exposure
   std::int64_t next_index_ = 0;

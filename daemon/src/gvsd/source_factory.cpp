@@ -85,7 +85,7 @@ std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config) {
   }
 }
 
-dsp::CameraGeometry check_frame_source(const DaemonConfig& config) {
+core::CameraGeometry check_frame_source(const DaemonConfig& config) {
   const std::string& uri = config.source_uri;
   const SourceUri u = split_source_uri(uri);
   if (u.scheme == "sim") {

@@ -153,7 +153,7 @@ inline float segment_mean(const Lookup& lut, double ja, double ia, double jb, do
 }  // namespace
 
 void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory,
-                              const dsp::CameraGeometry& camera,
+                              const core::CameraGeometry& camera,
                               const std::vector<LightInterval>& light, cv::Mat& out) {
   if (light.empty()) throw std::invalid_argument("simulator: exposure without light");
   const CameraFrame cam{camera.mm_per_px, (camera.height_px - 1) / 2.0, (camera.width_px - 1) / 2.0,

@@ -10,7 +10,7 @@
 #include "ground.hpp"
 #include "gvs/drivers/sim/render_stats.hpp"
 #include "gvs/drivers/sim/scenario.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::drivers::sim {
 
@@ -34,7 +34,7 @@ class ExposureRenderer {
   /// Writes into `out` (CV_32FC1, height x width) the reflectance of `ground`
   /// each pixel saw, averaged over the light intervals (time-weighted).
   void render(const Ground& ground, const Trajectory& trajectory,
-              const dsp::CameraGeometry& camera, const std::vector<LightInterval>& light,
+              const core::CameraGeometry& camera, const std::vector<LightInterval>& light,
               cv::Mat& out);
 
   [[nodiscard]] const ExposureStats& stats() const { return stats_; }

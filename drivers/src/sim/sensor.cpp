@@ -9,7 +9,7 @@
 
 namespace gvs::drivers::sim {
 
-Sensor::Sensor(const SensorModel& model, const dsp::CameraGeometry& camera,
+Sensor::Sensor(const SensorModel& model, const core::CameraGeometry& camera,
                std::uint64_t sensor_seed)
     : model_(model) {
   const int h = camera.height_px;

@@ -7,13 +7,13 @@
 #include <opencv2/core/mat.hpp>
 
 #include "gvs/drivers/sim/sensor_model.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::drivers::sim {
 
 class Sensor {
  public:
-  Sensor(const SensorModel& model, const dsp::CameraGeometry& camera, std::uint64_t sensor_seed);
+  Sensor(const SensorModel& model, const core::CameraGeometry& camera, std::uint64_t sensor_seed);
 
   /// Noise-free signal in electrons (before full-well clipping) for a
   /// reflectance image and `e_per_reflectance` electrons per unit reflectance

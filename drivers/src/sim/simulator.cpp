@@ -15,8 +15,8 @@
 #include "asphalt.hpp"
 #include "exposure.hpp"
 #include "gvs/drivers/sim/ground_spec.hpp"
-#include "gvs/dsp/frame.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/core/frame.hpp"
+#include "gvs/core/geometry.hpp"
 #include "hash.hpp"
 #include "photo_ground.hpp"
 #include "sensor.hpp"
@@ -42,13 +42,13 @@ void check_config(const SimulatorConfig& c) {
   if (!std::isfinite(c.camera.mount_yaw_deg)) fail("camera mount_yaw_deg must be finite");
 }
 
-void check_plan(const dsp::ExposurePlan& p, double fps) {
+void check_plan(const core::ExposurePlan& p, double fps) {
   auto fail = [](const std::string& what) {
     throw std::invalid_argument("simulator: exposure plan: " + what);
   };
   if (!(p.exposure_us > 0.0 && p.exposure_us <= 1e6 / fps))
     fail("exposure_us must be in (0, frame period], got " + std::to_string(p.exposure_us));
-  if (p.pulse_count > dsp::ExposurePlan::kMaxPulses) fail("more than kMaxPulses pulses");
+  if (p.pulse_count > core::ExposurePlan::kMaxPulses) fail("more than kMaxPulses pulses");
   double end = 0.0;
   for (std::size_t i = 0; i < p.pulse_count; ++i) {
     const auto& q = p.pulses[i];
@@ -81,11 +81,11 @@ struct Simulator::Impl {
   }
 
   /// LED drive (relative to continuous) times lit time, microseconds.
-  [[nodiscard]] double light_dose(const dsp::ExposurePlan& p) const {
+  [[nodiscard]] double light_dose(const core::ExposurePlan& p) const {
     return p.lit_time_us() * (p.pulse_count > 0 ? config.sensor.strobe_overdrive : 1.0);
   }
 
-  void light_intervals(std::int64_t index, const dsp::ExposurePlan& p,
+  void light_intervals(std::int64_t index, const core::ExposurePlan& p,
                        std::vector<sim::LightInterval>& out) const {
     const double t0 = static_cast<double>(index) / config.fps;
     out.clear();
@@ -126,7 +126,7 @@ struct Simulator::Impl {
     }
   }
 
-  void render(std::int64_t index, const dsp::ExposurePlan& p, SimFrame& out) {
+  void render(std::int64_t index, const core::ExposurePlan& p, SimFrame& out) {
     const sim::SensorModel& m = config.sensor;
     light_intervals(index, p, light);
     renderer.render(rendered_ground(), trajectory, config.camera, light, reflectance);
@@ -156,11 +156,11 @@ struct Simulator::Impl {
     TruthRecord& tr = out.truth;
     tr = TruthRecord{};
     tr.index = index;
-    tr.t_ns = dsp::mid_exposure_ns(t_ns, p);
+    tr.t_ns = core::mid_exposure_ns(t_ns, p);
     tr.vx_mps = v.vx_mps;
     tr.vy_mps = v.vy_mps;
     tr.speed_mps = std::hypot(v.vx_mps, v.vy_mps);
-    if (tr.speed_mps >= 0.01) tr.direction_deg = dsp::direction_deg({v.vx_mps, v.vy_mps});
+    if (tr.speed_mps >= 0.01) tr.direction_deg = core::direction_deg({v.vx_mps, v.vy_mps});
     tr.yaw_rate_dps = v.yaw_rate_dps;
   }
 
@@ -200,7 +200,7 @@ struct Simulator::Impl {
   std::unique_ptr<sim::Ground> ground;     ///< procedural asphalt or photo
   std::unique_ptr<sim::TextureTile> tile;  ///< periodic_texture with the procedural ground only
   sim::ExposureRenderer renderer;
-  dsp::ExposurePlan plan;
+  core::ExposurePlan plan;
   std::vector<sim::LightInterval> light;
   cv::Mat reflectance;
   std::size_t frames = 0;
@@ -232,14 +232,14 @@ bool Simulator::next(SimFrame& out) {
   return true;
 }
 
-void Simulator::set_exposure(const dsp::ExposurePlan& plan) {
+void Simulator::set_exposure(const core::ExposurePlan& plan) {
   check_plan(plan, impl_->config.fps);
   impl_->plan = plan;
 }
 
-const dsp::ExposurePlan& Simulator::exposure() const { return impl_->plan; }
+const core::ExposurePlan& Simulator::exposure() const { return impl_->plan; }
 
-void Simulator::render(std::int64_t index, const dsp::ExposurePlan& plan, SimFrame& out) {
+void Simulator::render(std::int64_t index, const core::ExposurePlan& plan, SimFrame& out) {
   check_plan(plan, impl_->config.fps);
   if (index < 0) throw std::invalid_argument("simulator: frame index must be >= 0");
   impl_->render(index, plan, out);

@@ -27,7 +27,7 @@ void insertion_sort(std::array<T, N>& a, std::size_t n, Less less) noexcept {
 
 }  // namespace
 
-EdgeSchedule make_edge_schedule(const dsp::ExposurePlan& plan, std::int64_t start_ns, bool with_trigger,
+EdgeSchedule make_edge_schedule(const core::ExposurePlan& plan, std::int64_t start_ns, bool with_trigger,
                                 std::int64_t trigger_pulse_ns) noexcept {
   EdgeSchedule s;
   if (with_trigger) {
@@ -39,12 +39,12 @@ EdgeSchedule make_edge_schedule(const dsp::ExposurePlan& plan, std::int64_t star
   struct Interval {
     std::int64_t on_ns, off_ns;
   };
-  std::array<Interval, dsp::ExposurePlan::kMaxPulses> lit{};
+  std::array<Interval, core::ExposurePlan::kMaxPulses> lit{};
   std::size_t n = 0;
   if (plan.pulse_count == 0) {
     lit[n++] = {0, us_to_ns(plan.exposure_us)};
   } else {
-    const std::size_t count = std::min(plan.pulse_count, dsp::ExposurePlan::kMaxPulses);
+    const std::size_t count = std::min(plan.pulse_count, core::ExposurePlan::kMaxPulses);
     for (std::size_t i = 0; i < count; ++i) {
       const std::int64_t on = us_to_ns(std::max(plan.pulses[i].start_us, 0.0));
       const std::int64_t off = on + us_to_ns(std::max(plan.pulses[i].duration_us, 0.0));
@@ -86,16 +86,16 @@ std::size_t led_intervals(std::span<const StrobeEdge> edges, std::span<LitInterv
 }
 
 bool light_in_exposure(std::span<const LitInterval> lit, std::int64_t start_ns, double exposure_us,
-                       dsp::ExposurePlan& plan) noexcept {
+                       core::ExposurePlan& plan) noexcept {
   const auto end_ns = start_ns + static_cast<std::int64_t>(exposure_us * 1000.0);
-  plan = dsp::ExposurePlan{};
+  plan = core::ExposurePlan{};
   plan.exposure_us = exposure_us;
   std::int64_t covered_ns = 0;
   for (const LitInterval& l : lit) {
     const std::int64_t a = std::max(l.on_ns, start_ns);
     const std::int64_t b = std::min(l.off_ns, end_ns);
     if (b <= a) continue;
-    if (plan.pulse_count == dsp::ExposurePlan::kMaxPulses) return false;
+    if (plan.pulse_count == core::ExposurePlan::kMaxPulses) return false;
     plan.pulses[plan.pulse_count++] = {static_cast<double>(a - start_ns) / 1000.0, static_cast<double>(b - a) / 1000.0};
     covered_ns += b - a;
   }

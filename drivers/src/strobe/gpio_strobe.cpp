@@ -87,7 +87,7 @@ std::string GpioStrobe::describe() const {
   return s + ", consumer " + config_.consumer + ")";
 }
 
-bool GpioStrobe::arm(const dsp::ExposurePlan& plan, double) noexcept {
+bool GpioStrobe::arm(const core::ExposurePlan& plan, double) noexcept {
   plan_ = plan;
   return true;
 }

@@ -82,7 +82,7 @@ PwmStrobe::~PwmStrobe() {
 
 std::string PwmStrobe::describe() const { return "pwm " + channel_dir_; }
 
-bool PwmStrobe::arm(const dsp::ExposurePlan& plan, double frame_period_us) noexcept {
+bool PwmStrobe::arm(const core::ExposurePlan& plan, double frame_period_us) noexcept {
   if (plan.pulse_count > 1 || frame_period_us <= 0.0) return false;
   const double lit_us = plan.pulse_count == 0 ? plan.exposure_us : plan.pulses[0].duration_us;
   const auto period_ns = static_cast<std::int64_t>(frame_period_us * 1000.0 + 0.5);

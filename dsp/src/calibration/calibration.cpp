@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 
 namespace gvs::dsp {
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "gvs/dsp/blur_analysis.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/spectrum.hpp"
 
 namespace gvs::dsp {

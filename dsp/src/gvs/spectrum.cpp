@@ -6,7 +6,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 
 namespace gvs::dsp {
 

@@ -4,7 +4,7 @@
 #include <exception>
 #include <optional>
 
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/thesis.hpp"
 
 namespace gvs::dsp {

@@ -4,7 +4,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/thesis_fft.hpp"
 
 namespace gvs::dsp::thesis {

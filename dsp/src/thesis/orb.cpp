@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/thesis_orb.hpp"
 
 namespace gvs::dsp::thesis {

@@ -39,7 +39,7 @@ BENCHMARK(BM_ConstantSpeed)->Arg(0)->Arg(10)->Arg(60)->Arg(140)->Arg(250)->Unit(
 /// Short double strobe at 140 km/h (sharp double image).
 void BM_DoubleStrobe140(benchmark::State& state) {
   Simulator sim(SimulatorConfig{}, gvs::drivers::sim::constant_motion_scenario(140 / 3.6, 0.0, 0.0, 100.0));
-  gvs::dsp::ExposurePlan p;
+  gvs::core::ExposurePlan p;
   p.exposure_us = 3000;
   p.pulse_count = 2;
   p.pulses[0] = {0, 20};

@@ -138,7 +138,7 @@ TEST(SimExposure, TruthIsAtTheMiddleOfTheLight) {
   EXPECT_NEAR(*f.truth.direction_deg, std::atan2(-0.5, f.truth.vx_mps) * 180.0 / 3.14159265358979, 1e-9);
 
   // Pulses 0:100 and 2000:300: energy centre (50*100 + 2150*300) / 400 = 1625 us.
-  dsp::ExposurePlan p = continuous(3000);
+  core::ExposurePlan p = continuous(3000);
   p.pulse_count = 2;
   p.pulses[0] = {0, 100};
   p.pulses[1] = {2000, 300};
@@ -159,7 +159,7 @@ TEST(SimExposure, NoDirectionWhenStanding) {
 TEST(SimExposure, TwoPulsesMakeADoubleImageAtTheRightSeparation) {
   // 2 m/s, pulses 1500 us apart: images 3 mm = 30 px apart along the rows.
   Simulator sim(geometry_config(), constant_motion_scenario(2.0, 0.0));
-  dsp::ExposurePlan p = continuous(3000);
+  core::ExposurePlan p = continuous(3000);
   p.pulse_count = 2;
   p.pulses[0] = {0, 20};
   p.pulses[1] = {1500, 20};

@@ -7,7 +7,7 @@
 #include <numbers>
 
 #include "gvs/drivers/simulator.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/core/geometry.hpp"
 #include "sim_test_util.hpp"
 
 namespace gvs::drivers::sim::test {
@@ -85,9 +85,9 @@ TEST(SimGeometry, MountYaw30DegreesRotatesTheShift) {
   EXPECT_NEAR(s.d_row, cx * kDt / kMetresPerPx, 0.1);
   EXPECT_NEAR(s.d_col, cy * kDt / kMetresPerPx, 0.1);
   // Same thing through the shared geometry helper.
-  dsp::CameraGeometry cam;
+  core::CameraGeometry cam;
   cam.mount_yaw_deg = 30.0;
-  const dsp::Vec2 expect = dsp::velocity_to_image_shift({vx, vy}, kDt, cam);
+  const core::Vec2 expect = core::velocity_to_image_shift({vx, vy}, kDt, cam);
   EXPECT_NEAR(s.d_row, expect.x, 0.1);
   EXPECT_NEAR(s.d_col, expect.y, 0.1);
 }

@@ -80,7 +80,7 @@ TEST(SimSensor, LightFallsOffTowardsTheCorners) {
 }
 
 /// Temporal noise: a noisy frame minus the same frame rendered noise-free.
-double temporal_noise(const dsp::ExposurePlan& plan) {
+double temporal_noise(const core::ExposurePlan& plan) {
   SimulatorConfig noisy;
   noisy.sensor.fixed_pattern_noise = false;
   SimulatorConfig clean = noisy;
@@ -121,7 +121,7 @@ TEST(SimSensor, ImpossibleExposurePlansAreRejected) {
   EXPECT_THROW(sim.set_exposure(continuous(0.0)), std::invalid_argument);
   EXPECT_THROW(sim.set_exposure(continuous(20000.0)), std::invalid_argument);  // > 1/60 s
   EXPECT_THROW(sim.set_exposure(strobe(2990, 20)), std::invalid_argument);     // ends after exposure
-  dsp::ExposurePlan p = continuous(3000);
+  core::ExposurePlan p = continuous(3000);
   p.pulse_count = 2;
   p.pulses[0] = {100, 50};
   p.pulses[1] = {120, 50};  // overlaps

@@ -30,21 +30,21 @@ inline SimulatorConfig clean_config(std::uint64_t seed = 3) {
   return c;
 }
 
-inline dsp::ExposurePlan strobe(double start_us, double duration_us, double exposure_us = 3000.0) {
-  dsp::ExposurePlan p;
+inline core::ExposurePlan strobe(double start_us, double duration_us, double exposure_us = 3000.0) {
+  core::ExposurePlan p;
   p.exposure_us = exposure_us;
   p.pulse_count = 1;
   p.pulses[0] = {start_us, duration_us};
   return p;
 }
 
-inline dsp::ExposurePlan continuous(double exposure_us) {
-  dsp::ExposurePlan p;
+inline core::ExposurePlan continuous(double exposure_us) {
+  core::ExposurePlan p;
   p.exposure_us = exposure_us;
   return p;
 }
 
-inline cv::Mat render(Simulator& sim, std::int64_t index, const dsp::ExposurePlan& plan) {
+inline cv::Mat render(Simulator& sim, std::int64_t index, const core::ExposurePlan& plan) {
   SimFrame f;
   sim.render(index, plan, f);
   return f.gray.clone();

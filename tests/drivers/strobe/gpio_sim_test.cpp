@@ -99,7 +99,7 @@ class GpioSim : public ::testing::Test {
 
   /// Fires `plan` once while a second thread reads both lines' levels from
   /// gpio-sim's sysfs as fast as it can; returns the samples.
-  std::vector<Sample> fire_and_sample(gvs::drivers::GpioStrobe& strobe, const gvs::dsp::ExposurePlan& plan) {
+  std::vector<Sample> fire_and_sample(gvs::drivers::GpioStrobe& strobe, const gvs::core::ExposurePlan& plan) {
     strobe.arm(plan, 1e6);
     std::vector<Sample> samples;
     samples.reserve(1'000'000);
@@ -166,8 +166,8 @@ class GpioSim : public ::testing::Test {
 };
 
 /// Slow enough to sample under qemu TCG: pulses and gaps of 200 ms.
-gvs::dsp::ExposurePlan slow_double_pulse() {
-  gvs::dsp::ExposurePlan p;
+gvs::core::ExposurePlan slow_double_pulse() {
+  gvs::core::ExposurePlan p;
   p.pulse_count = 2;
   p.pulses[0] = {0.0, 200'000.0};
   p.pulses[1] = {400'000.0, 200'000.0};
@@ -228,7 +228,7 @@ TEST_F(GpioSim, SinglePulseActiveLowInvertsTheLines) {
   gvs::drivers::GpioStrobe strobe(c);
   EXPECT_EQ(level(kTriggerLine), 1);  // off = high
   EXPECT_EQ(level(kLedLine), 1);
-  gvs::dsp::ExposurePlan p;
+  gvs::core::ExposurePlan p;
   p.pulse_count = 1;
   p.pulses[0] = {400'000.0, 200'000.0};
   p.exposure_us = 600'000.0;
@@ -240,7 +240,7 @@ TEST_F(GpioSim, SinglePulseActiveLowInvertsTheLines) {
 
 TEST_F(GpioSim, ContinuousExposureKeepsTheLedOnForTheExposure) {
   gvs::drivers::GpioStrobe strobe(config(false));
-  gvs::dsp::ExposurePlan p;  // no pulses
+  gvs::core::ExposurePlan p;  // no pulses
   p.exposure_us = 300'000.0;
   const auto samples = fire_and_sample(strobe, p);
   const auto edges = strobe.last_edges();
@@ -251,7 +251,7 @@ TEST_F(GpioSim, ContinuousExposureKeepsTheLedOnForTheExposure) {
 
 TEST_F(GpioSim, FastDoublePulseTimingIsRecordedAndPrinted) {
   gvs::drivers::GpioStrobe strobe(config(false));
-  gvs::dsp::ExposurePlan p;
+  gvs::core::ExposurePlan p;
   p.pulse_count = 2;
   p.pulses[0] = {0.0, 20.0};
   p.pulses[1] = {500.0, 20.0};
@@ -293,7 +293,7 @@ TEST_F(GpioSim, FiringAPlanAllocatesNothing) {
   GTEST_SKIP() << "sanitizer build: the sanitizer owns malloc, allocations cannot be counted";
 #else
   gvs::drivers::GpioStrobe strobe(config(false));
-  gvs::dsp::ExposurePlan p;
+  gvs::core::ExposurePlan p;
   p.pulse_count = 2;
   p.pulses[0] = {0.0, 20.0};
   p.pulses[1] = {500.0, 20.0};

@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
   }
   if (frames < 1 || fps <= 0.0) usage("--frames and --fps must be positive");
 
-  gvs::dsp::ExposurePlan plan;
+  gvs::core::ExposurePlan plan;
   plan.exposure_us = exposure_us;
   if (plan_name == "single") {
     plan.pulse_count = 1;
@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
     edges += r.edges;
     late_edges += r.late_edges;
     errors += r.error ? 1 : 0;
-    std::int64_t on_ns[gvs::dsp::ExposurePlan::kMaxPulses]{};
+    std::int64_t on_ns[gvs::core::ExposurePlan::kMaxPulses]{};
     std::size_t pulse = 0;
     if (f < dump_frames) {
       std::printf("frame %d edges (due after the frame start / lateness, us):", f);
@@ -156,14 +156,14 @@ int main(int argc, char** argv) {
       }
       if (e.on) {
         late_led_on.push_back(late_us);
-        if (pulse < gvs::dsp::ExposurePlan::kMaxPulses) on_ns[pulse] = e.achieved_ns;
+        if (pulse < gvs::core::ExposurePlan::kMaxPulses) on_ns[pulse] = e.achieved_ns;
         if (pulse == 1) {
           separation_err.push_back(std::fabs(static_cast<double>(on_ns[1] - on_ns[0]) / 1e3 - separation_us));
         }
       } else {
         late_led_off.push_back(late_us);
         const double nominal_us = plan.pulse_count ? pulse_us : plan.exposure_us;
-        if (pulse < gvs::dsp::ExposurePlan::kMaxPulses) {
+        if (pulse < gvs::core::ExposurePlan::kMaxPulses) {
           duration_err.push_back(std::fabs(static_cast<double>(e.achieved_ns - on_ns[pulse]) / 1e3 - nominal_us));
         }
         ++pulse;

@@ -21,12 +21,12 @@ using gvs::drivers::LitInterval;
 using gvs::drivers::StrobeEdge;
 using gvs::drivers::led_intervals;
 using gvs::drivers::light_in_exposure;
-namespace dsp = gvs::dsp;
+namespace core = gvs::core;
 
 namespace {
 
-gvs::dsp::ExposurePlan double_pulse(double first_us, double second_us, double duration_us) {
-  gvs::dsp::ExposurePlan p;
+gvs::core::ExposurePlan double_pulse(double first_us, double second_us, double duration_us) {
+  gvs::core::ExposurePlan p;
   p.exposure_us = second_us + duration_us;
   p.pulses[0] = {first_us, duration_us};
   p.pulses[1] = {second_us, duration_us};
@@ -37,7 +37,7 @@ gvs::dsp::ExposurePlan double_pulse(double first_us, double second_us, double du
 }  // namespace
 
 TEST(EdgeSchedule, ContinuousExposureIsOneLedPulseAfterTheTrigger) {
-  gvs::dsp::ExposurePlan plan;
+  gvs::core::ExposurePlan plan;
   plan.exposure_us = 3000.0;
   const EdgeSchedule s = gvs::drivers::make_edge_schedule(plan, 1'000'000, true, 10'000);
   ASSERT_EQ(s.count, 4u);
@@ -77,8 +77,8 @@ TEST(EdgeSchedule, OverlappingPulsesMergeSoTheLedNeverSwitchesOnTwice) {
 }
 
 TEST(EdgeSchedule, EightPulsesAndATriggerFit) {
-  gvs::dsp::ExposurePlan plan;
-  plan.pulse_count = gvs::dsp::ExposurePlan::kMaxPulses;
+  gvs::core::ExposurePlan plan;
+  plan.pulse_count = gvs::core::ExposurePlan::kMaxPulses;
   for (std::size_t i = 0; i < plan.pulse_count; ++i) plan.pulses[i] = {100.0 * static_cast<double>(i), 10.0};
   const EdgeSchedule s = gvs::drivers::make_edge_schedule(plan, 0, true, 5'000);
   EXPECT_EQ(s.count, EdgeSchedule::kMaxEdges);
@@ -129,7 +129,7 @@ TEST_F(PwmFakeSysfs, SinglePulseSetsPeriodDutyAndEnables) {
   gvs::drivers::PwmStrobe pwm(c);
   EXPECT_EQ(read("pwmchip1/pwm0/polarity"), "inversed\n");
   EXPECT_EQ(read("pwmchip1/pwm0/enable"), "0\n");
-  gvs::dsp::ExposurePlan plan;
+  gvs::core::ExposurePlan plan;
   plan.pulse_count = 1;
   plan.pulses[0] = {0.0, 120.0};
   ASSERT_TRUE(pwm.arm(plan, 1e6 / 60.0));
@@ -144,7 +144,7 @@ TEST_F(PwmFakeSysfs, ContinuousExposureIsTheDutyAndShorterValuesReplaceLongerOne
   make_channel(2);
   gvs::drivers::PwmStrobe pwm(config(2));
   EXPECT_EQ(read("pwmchip1/pwm2/polarity"), "normal\n");
-  gvs::dsp::ExposurePlan plan;
+  gvs::core::ExposurePlan plan;
   plan.exposure_us = 3000.0;
   ASSERT_TRUE(pwm.arm(plan, 10'000.0));
   EXPECT_EQ(read("pwmchip1/pwm2/duty_cycle"), "3000000\n");
@@ -160,7 +160,7 @@ TEST_F(PwmFakeSysfs, RefusesDoublePulseAndDutyLongerThanThePeriod) {
   make_channel(0);
   gvs::drivers::PwmStrobe pwm(config(0));
   EXPECT_FALSE(pwm.arm(double_pulse(0.0, 500.0, 20.0), 16'666.0));
-  gvs::dsp::ExposurePlan plan;
+  gvs::core::ExposurePlan plan;
   plan.exposure_us = 20'000.0;
   EXPECT_FALSE(pwm.arm(plan, 16'666.0));
   EXPECT_EQ(read("pwmchip1/pwm0/enable"), "0\n");  // nothing was enabled
@@ -170,7 +170,7 @@ TEST_F(PwmFakeSysfs, DisablesOnDestruction) {
   make_channel(0);
   {
     gvs::drivers::PwmStrobe pwm(config(0));
-    gvs::dsp::ExposurePlan plan;
+    gvs::core::ExposurePlan plan;
     ASSERT_TRUE(pwm.arm(plan, 16'666.0));
     EXPECT_EQ(read("pwmchip1/pwm0/enable"), "1\n");
   }
@@ -219,7 +219,7 @@ TEST(LightInExposure, MeasuredPulsesInsideTheShutterBecomeTheFramesPulses) {
   EXPECT_EQ(lit[1].off_ns, 1'620'500);
 
   // Shutter open 1 ms from 1.05 ms: both pulses inside, at their measured offsets.
-  dsp::ExposurePlan plan;
+  core::ExposurePlan plan;
   ASSERT_TRUE(light_in_exposure(std::span(lit.data(), 2), 1'050'000, 1000.0, plan));
   ASSERT_EQ(plan.pulse_count, 2u);
   EXPECT_DOUBLE_EQ(plan.exposure_us, 1000.0);

@@ -7,12 +7,12 @@
 #include <optional>
 
 #include "gvs/can/codec.hpp"
-#include "gvs/dsp/estimate.hpp"
-#include "gvs/dsp/method.hpp"
+#include "gvs/core/estimate.hpp"
+#include "gvs/core/method.hpp"
 
 namespace gvs::daemon {
 
-inline can::BusEstimate bus_estimate(const dsp::VelocityEstimate& e) noexcept {
+inline can::BusEstimate bus_estimate(const core::VelocityEstimate& e) noexcept {
   can::BusEstimate b;
   b.t_ns = e.t_ns;
   b.has_speed = e.has_speed;
@@ -25,14 +25,14 @@ inline can::BusEstimate bus_estimate(const dsp::VelocityEstimate& e) noexcept {
   b.vx_mps = e.vx_mps;
   b.vy_mps = e.vy_mps;
   b.quality = e.quality;
-  b.method_code = dsp::method_can_code(e.method);
+  b.method_code = core::method_can_code(e.method);
   return b;
 }
 
-/// The estimates CSV word of a GVS_Method code; nullptr for a code not in dsp::kMethods.
+/// The estimates CSV word of a GVS_Method code; nullptr for a code not in core::kMethods.
 inline const char* method_word_of_code(std::uint8_t code) noexcept {
-  const std::optional<dsp::Method> m = dsp::method_from_can_code(code);
-  return m ? dsp::method_word(*m) : nullptr;
+  const std::optional<core::Method> m = core::method_from_can_code(code);
+  return m ? core::method_word(*m) : nullptr;
 }
 
 }  // namespace gvs::daemon

@@ -13,7 +13,7 @@
 
 #include "gvs/daemon/plausibility_gate.hpp"
 #include "gvs/drivers/strobe.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::daemon {
 
@@ -52,7 +52,7 @@ struct DaemonConfig {
   std::uint32_t base_id = 0x300;      ///< CAN ID of GVS_Velocity; the others follow (can/gvs.dbc)
 
   // [camera]
-  dsp::CameraGeometry camera;
+  core::CameraGeometry camera;
   double lever_arm_x_m = 0.0;  ///< sensor position relative to the car's reference point, vehicle axes
   double lever_arm_y_m = 0.0;
 

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "gvs/daemon/frame_slot.hpp"
-#include "gvs/dsp/estimate.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/estimate.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::daemon {
 
@@ -24,17 +24,17 @@ class FrameEstimator {
   /// exception from estimate_frame (OpenCV throws cv::Exception on inputs it
   /// rejects) ends here: the frame gets no estimate ("estimator-exception"),
   /// it is counted and the estimator is reset, so the process keeps running.
-  dsp::VelocityEstimate estimate(const FrameSlot& slot) noexcept;
+  core::VelocityEstimate estimate(const FrameSlot& slot) noexcept;
   virtual void reset() noexcept = 0;
-  /// Bad input frames so far, per reason (FrameRejectCounters::by_reason).
-  [[nodiscard]] virtual RejectCounts rejected_frames() const noexcept { return {}; }
+  /// Bad input frames so far, per reason (dsp::FrameRejectCounters::by_reason).
+  [[nodiscard]] virtual dsp::RejectCounts rejected_frames() const noexcept { return {}; }
   /// Frames whose estimation threw (caught by estimate()).
   [[nodiscard]] std::uint64_t estimator_exceptions() const noexcept { return exceptions_; }
   [[nodiscard]] virtual std::string name() const = 0;
 
  protected:
   /// The estimation itself; may throw (estimate() catches).
-  virtual dsp::VelocityEstimate estimate_frame(const FrameSlot& slot) = 0;
+  virtual core::VelocityEstimate estimate_frame(const FrameSlot& slot) = 0;
 
  private:
   std::uint64_t exceptions_ = 0;
@@ -43,13 +43,13 @@ class FrameEstimator {
 /// "truth" or a dsp::estimator_names() entry. Throws std::runtime_error
 /// naming the method and the allowed ones.
 std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
-                                                     const dsp::CameraGeometry& geometry);
+                                                     const core::CameraGeometry& geometry);
 
 /// Moves a sensor-point velocity to the car's reference point. The sensor
 /// sits at r = (x, y) metres from the reference point (vehicle axes); for a
 /// rigid body v_sensor = v_ref + omega x r, so
 ///   v_ref_x = v_x + omega * r_y,   v_ref_y = v_y - omega * r_x   (omega in rad/s).
 /// Needs the yaw rate: without it the estimate is left at the sensor point.
-void apply_lever_arm(dsp::VelocityEstimate& e, double lever_arm_x_m, double lever_arm_y_m) noexcept;
+void apply_lever_arm(core::VelocityEstimate& e, double lever_arm_x_m, double lever_arm_y_m) noexcept;
 
 }  // namespace gvs::daemon

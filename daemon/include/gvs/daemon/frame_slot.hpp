@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <optional>
 
-#include "gvs/daemon/reject_reason.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/dsp/reject_reason.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::daemon {
 
@@ -23,14 +23,14 @@ struct FrameTruth {
 /// A ring slot. `view.gray` owns a pixel buffer allocated once at start-up
 /// (FrameSource::prepare); sources fill it in place.
 struct FrameSlot {
-  dsp::FrameView view;            ///< pixels, source index, exposure start (monotonic ns), exposure
+  core::FrameView view;            ///< pixels, source index, exposure start (monotonic ns), exposure
   std::int64_t captured_ns = 0;   ///< monotonic time the capture thread received the frame
   std::uint64_t sequence = 0;     ///< capture order, 1, 2, ... (gaps: frames the ring had no room for)
   FrameTruth truth;
   /// Set by the source (or the light check) when it could not deliver a
   /// usable frame (unreadable, wrong size, no exposure time, ...): the frame
   /// gets no estimate, its method names the reason, and it is counted.
-  std::optional<RejectReason> defect;
+  std::optional<dsp::RejectReason> defect;
 };
 
 }  // namespace gvs::daemon

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "gvs/daemon/frame_slot.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::daemon {
 
@@ -32,7 +32,7 @@ class FrameSource {
   /// "sim:sine (60 fps, 512x384)" — for the log.
   [[nodiscard]] virtual std::string describe() const = 0;
   /// Geometry of the frames (and of the camera on the car).
-  [[nodiscard]] virtual dsp::CameraGeometry geometry() const = 0;
+  [[nodiscard]] virtual core::CameraGeometry geometry() const = 0;
   /// Nominal frame rate, frames per second.
   [[nodiscard]] virtual double nominal_fps() const = 0;
   /// Start-up: allocates the slot's buffers (called for each ring slot).
@@ -41,7 +41,7 @@ class FrameSource {
   virtual SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept = 0;
   /// Capture thread: exposure for the frames from the next one on. Sources
   /// without exposure control ignore it.
-  virtual void set_exposure(const dsp::ExposurePlan& plan) noexcept = 0;
+  virtual void set_exposure(const core::ExposurePlan& plan) noexcept = 0;
   [[nodiscard]] virtual bool controls_exposure() const = 0;
   /// Main thread, also while the capture thread runs (start-up and SIGHUP):
   /// `[exposure] max_us`, for sources that clamp the exposure themselves.
@@ -65,6 +65,6 @@ std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config);
 /// simulator's settings, scenario and ground photo, the replay dataset's
 /// index and memory limit, the libcamera settings. Returns the frames'
 /// geometry; throws std::runtime_error with make_frame_source's message.
-dsp::CameraGeometry check_frame_source(const DaemonConfig& config);
+core::CameraGeometry check_frame_source(const DaemonConfig& config);
 
 }  // namespace gvs::daemon

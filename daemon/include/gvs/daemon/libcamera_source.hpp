@@ -26,7 +26,7 @@ namespace gvs::daemon {
 /// The source's settings ([camera], [exposure] and [libcamera] of gvsd.toml).
 struct LibcameraSettings {
   std::string camera_id;  ///< empty: the first camera the library lists
-  dsp::CameraGeometry camera;
+  core::CameraGeometry camera;
   double fps = 60.0;
   drivers::CameraPixelFormat pixel_format = drivers::CameraPixelFormat::yuv420;
   int buffer_count = 4;
@@ -52,9 +52,9 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
 /// makes up for the shorter exposure (gain_min * exposure_max_us / exposure,
 /// the image brightness stays put) within [gain_min, gain_max];
 /// FrameDurationLimits fixed at 1/fps.
-drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s);
+drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s);
 /// The same with `exposure_max_us` in place of s.exposure_max_us (a reloaded value).
-drivers::CameraControls camera_controls_for(const dsp::ExposurePlan& plan, const LibcameraSettings& s,
+drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
                                             double exposure_max_us);
 
 /// The source's counters (each written by one thread).
@@ -81,11 +81,11 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   ~LibcameraSource() override;
 
   [[nodiscard]] std::string describe() const override;
-  [[nodiscard]] dsp::CameraGeometry geometry() const override { return settings_.camera; }
+  [[nodiscard]] core::CameraGeometry geometry() const override { return settings_.camera; }
   [[nodiscard]] double nominal_fps() const override { return settings_.fps; }
   void prepare(FrameSlot& slot) override;
   SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override;
-  void set_exposure(const dsp::ExposurePlan& plan) noexcept override;
+  void set_exposure(const core::ExposurePlan& plan) noexcept override;
   [[nodiscard]] bool controls_exposure() const override { return true; }
   /// Takes effect from the next frame the capture thread asks for, with the
   /// last plan re-clamped (a fixed exposure gets no new plan to carry it).
@@ -103,7 +103,7 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
     std::int64_t t_ns = 0;
     double exposure_us = 0.0;
     double analogue_gain = 0.0;
-    std::optional<RejectReason> defect;
+    std::optional<dsp::RejectReason> defect;
   };
 
   // camera library's thread
@@ -137,7 +137,7 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
 
   // capture thread state
   std::int64_t last_frame_ns_ = -1;
-  dsp::ExposurePlan plan_;            ///< the last plan asked for
+  core::ExposurePlan plan_;            ///< the last plan asked for
   double applied_exposure_max_us_ = 0.0;  ///< the limit controls_packed_ was clamped with
 
   std::atomic<bool> streaming_{false};

@@ -109,7 +109,7 @@ class Pipeline {
   [[nodiscard]] const HealthCounters& counters() const noexcept { return counters_; }
   [[nodiscard]] Progress progress() const noexcept;
   [[nodiscard]] PublishedEstimate latest() const noexcept { return latest_.read(); }
-  [[nodiscard]] dsp::ExposurePlan requested_exposure() const noexcept { return exposure_request_.read(); }
+  [[nodiscard]] core::ExposurePlan requested_exposure() const noexcept { return exposure_request_.read(); }
   [[nodiscard]] const std::array<ThreadRtReport, kThreadCount>& rt_reports() const noexcept { return reports_; }
   [[nodiscard]] bool realtime() const noexcept;
   /// Valid after join().
@@ -157,7 +157,7 @@ class Pipeline {
   FrameSlot spare_;  ///< where the capture thread puts a frame the full ring has no room for
   Wakeup frame_ready_;
   Seqlock<PublishedEstimate> latest_;
-  Seqlock<dsp::ExposurePlan> exposure_request_;
+  Seqlock<core::ExposurePlan> exposure_request_;
   Seqlock<ExposureSettings> exposure_settings_;  ///< written by the main thread (reload)
   Seqlock<PlausibilityLimits> plausibility_limits_;  ///< written by the main thread (reload)
   PlausibilityGate gate_;  ///< processing thread only

@@ -7,7 +7,7 @@
 
 #include <cstdint>
 
-#include "gvs/dsp/estimate.hpp"
+#include "gvs/core/estimate.hpp"
 
 namespace gvs::daemon {
 
@@ -42,7 +42,7 @@ class PlausibilityGate {
   explicit PlausibilityGate(const PlausibilityLimits& limits = {}) noexcept : limits_(limits) {}
 
   /// Judges `e` (at e.t_ns) against the track and updates the track.
-  Plausibility check(const dsp::VelocityEstimate& e) noexcept;
+  Plausibility check(const core::VelocityEstimate& e) noexcept;
   /// New limits (reload); the track stays.
   void set_limits(const PlausibilityLimits& limits) noexcept { limits_ = limits; }
   /// Forgets the track.
@@ -63,7 +63,7 @@ class PlausibilityGate {
 
  private:
   /// Could the car go from `from` to the quantities of `e` at e.t_ns?
-  [[nodiscard]] bool consistent(const Track& from, const dsp::VelocityEstimate& e) const noexcept;
+  [[nodiscard]] bool consistent(const Track& from, const core::VelocityEstimate& e) const noexcept;
 
   PlausibilityLimits limits_;
   bool have_track_ = false;

@@ -3,13 +3,13 @@
 
 #include <cstdint>
 
-#include "gvs/dsp/estimate.hpp"
+#include "gvs/core/estimate.hpp"
 
 namespace gvs::daemon {
 
 struct PublishedEstimate {
   std::uint64_t sequence = 0;      ///< 0: nothing published yet; then 1, 2, ... per processed frame
-  dsp::VelocityEstimate estimate;  ///< at the car's reference point; t_ns = mid-exposure, monotonic
+  core::VelocityEstimate estimate;  ///< at the car's reference point; t_ns = mid-exposure, monotonic
   std::int64_t captured_ns = 0;    ///< when the capture thread received the frame (monotonic)
   std::int64_t published_ns = 0;   ///< when the processing thread published this (monotonic)
   std::int64_t processing_ns = 0;  ///< time spent in the estimator

@@ -11,7 +11,7 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::drivers {
 
@@ -24,7 +24,7 @@ class DatasetError : public std::runtime_error {
 
 /// camera.json
 struct CameraInfo {
-  dsp::CameraGeometry geometry;
+  core::CameraGeometry geometry;
   std::string description;
   /// Simulated runs: the ground rendered ("procedural" or
   /// "photo:FILE:MM_PER_PIXEL", key "ground"); empty: not recorded (camera runs).
@@ -36,7 +36,7 @@ struct FrameRecord {
   std::int64_t index = 0;
   std::string file;  ///< relative to the dataset folder
   std::int64_t t_ns = 0;
-  dsp::ExposurePlan exposure;
+  core::ExposurePlan exposure;
 };
 
 /// One row of truth.csv: sensor velocity at mid-exposure, vehicle axes.
@@ -52,9 +52,9 @@ struct TruthRecord {
 
 /// Parses the `pulses` column ("0:20|400:20", empty = continuous). Throws
 /// std::invalid_argument with a message saying what is wrong.
-dsp::ExposurePlan parse_pulses(const std::string& text, double exposure_us);
+core::ExposurePlan parse_pulses(const std::string& text, double exposure_us);
 /// Formats pulses the way frames.csv stores them (empty when continuous).
-std::string format_pulses(const dsp::ExposurePlan& plan);
+std::string format_pulses(const core::ExposurePlan& plan);
 
 /// Reads a dataset folder. The constructor reads and checks camera.json,
 /// frames.csv and truth.csv (if present); images are read on demand.

@@ -7,21 +7,21 @@
 #include <string>
 #include <vector>
 
-#include "gvs/dsp/estimate.hpp"
+#include "gvs/core/estimate.hpp"
 
 namespace gvs::drivers {
 
-/// One parsed row. The `method` word maps back through dsp::kMethods; a word
+/// One parsed row. The `method` word maps back through core::kMethods; a word
 /// the table lacks (a file from another estimator: the format allows any
-/// word) reads as dsp::Method::unknown.
+/// word) reads as core::Method::unknown.
 struct EstimateRow {
-  dsp::VelocityEstimate estimate;
+  core::VelocityEstimate estimate;
 };
 
 class EstimatesCsvWriter {
  public:
   explicit EstimatesCsvWriter(const std::filesystem::path& file);
-  void write(const dsp::VelocityEstimate& e);
+  void write(const core::VelocityEstimate& e);
   void close();
 
  private:
@@ -33,6 +33,6 @@ class EstimatesCsvWriter {
 std::vector<EstimateRow> read_estimates_csv(const std::filesystem::path& file);
 
 /// Formats one row (no newline), as EstimatesCsvWriter writes it.
-std::string format_estimate_row(const dsp::VelocityEstimate& e);
+std::string format_estimate_row(const core::VelocityEstimate& e);
 
 }  // namespace gvs::drivers

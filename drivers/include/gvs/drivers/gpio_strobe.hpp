@@ -16,7 +16,7 @@ class GpioStrobe final : public StrobeDriver {
   ~GpioStrobe() override;
 
   [[nodiscard]] std::string describe() const override;
-  bool arm(const dsp::ExposurePlan& plan, double frame_period_us) noexcept override;
+  bool arm(const core::ExposurePlan& plan, double frame_period_us) noexcept override;
   FireReport fire(std::int64_t start_ns) noexcept override;
   [[nodiscard]] std::span<const StrobeEdge> last_edges() const noexcept override {
     return {schedule_.edges.data(), schedule_.count};
@@ -30,7 +30,7 @@ class GpioStrobe final : public StrobeDriver {
   gpiod_line* trigger_ = nullptr;
   bool led_on_ = false;      ///< level last set (logical)
   bool trigger_on_ = false;
-  dsp::ExposurePlan plan_{};
+  core::ExposurePlan plan_{};
   EdgeSchedule schedule_{};
   std::int64_t spin_ns_ = 0;
   std::int64_t late_limit_ns_ = 0;

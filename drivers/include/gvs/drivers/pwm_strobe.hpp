@@ -29,7 +29,7 @@ class PwmStrobe final : public StrobeDriver {
   ~PwmStrobe() override;
 
   [[nodiscard]] std::string describe() const override;
-  bool arm(const dsp::ExposurePlan& plan, double frame_period_us) noexcept override;
+  bool arm(const core::ExposurePlan& plan, double frame_period_us) noexcept override;
   FireReport fire(std::int64_t) noexcept override { return {}; }
   [[nodiscard]] std::span<const StrobeEdge> last_edges() const noexcept override { return {}; }
   [[nodiscard]] bool hardware_timed() const noexcept override { return true; }

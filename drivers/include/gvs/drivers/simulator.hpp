@@ -14,7 +14,7 @@
 #include "gvs/drivers/sim/render_stats.hpp"
 #include "gvs/drivers/sim/scenario.hpp"
 #include "gvs/drivers/sim/sensor_model.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::drivers {
 
@@ -29,7 +29,7 @@ struct SimulatorConfig {
   double fps = 60.0;
   double exposure_us = 3000.0;  ///< continuous exposure unless a plan is set
   LightLevel light = LightLevel::normal;
-  dsp::CameraGeometry camera;  ///< 512x384 px, 0.1 mm/px, mount yaw 0
+  core::CameraGeometry camera;  ///< 512x384 px, 0.1 mm/px, mount yaw 0
   bool loop = false;           ///< start the scenario again when it ends (daemon)
   std::uint64_t sensor_seed = 7;  ///< fixed-pattern noise of "the" sensor (not the scene)
   sim::SensorModel sensor;        ///< sensor and light numbers (docs/simulator.md)
@@ -86,12 +86,12 @@ class Simulator {
   /// std::invalid_argument for an impossible plan (exposure <= 0 or longer
   /// than the frame period, pulses outside the exposure, overlapping or
   /// unsorted, or more than kMaxPulses).
-  void set_exposure(const dsp::ExposurePlan& plan);
-  [[nodiscard]] const dsp::ExposurePlan& exposure() const;
+  void set_exposure(const core::ExposurePlan& plan);
+  [[nodiscard]] const core::ExposurePlan& exposure() const;
 
   /// Renders frame `index` with `plan` without advancing the run (random
   /// access, e.g. the same instant with different exposures).
-  void render(std::int64_t index, const dsp::ExposurePlan& plan, SimFrame& out);
+  void render(std::int64_t index, const core::ExposurePlan& plan, SimFrame& out);
 
   [[nodiscard]] const sim::Trajectory& trajectory() const;
   /// Gain set for the run (DN per electron at the configured exposure).

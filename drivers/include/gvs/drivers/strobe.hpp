@@ -1,4 +1,4 @@
-// The LED ring and the camera trigger: one frame's dsp::ExposurePlan turned
+// The LED ring and the camera trigger: one frame's core::ExposurePlan turned
 // into output edges (docs/hardware.md, "Light and trigger").
 //
 // Two drivers behind one interface:
@@ -19,7 +19,7 @@
 #include <span>
 #include <string>
 
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
 namespace gvs::drivers {
 
@@ -60,14 +60,14 @@ struct StrobeEdge {
 /// A frame's edges in time order: trigger on/off, then the LED's on/off per
 /// pulse (no pulses: LED on for the whole exposure).
 struct EdgeSchedule {
-  static constexpr std::size_t kMaxEdges = 2 + 2 * dsp::ExposurePlan::kMaxPulses;
+  static constexpr std::size_t kMaxEdges = 2 + 2 * core::ExposurePlan::kMaxPulses;
   std::array<StrobeEdge, kMaxEdges> edges{};
   std::size_t count = 0;
 };
 
 /// Edges for `plan` starting at `start_ns` (pure; no clocks). Pulses that
 /// overlap are merged so the LED line never gets two "on" in a row.
-EdgeSchedule make_edge_schedule(const dsp::ExposurePlan& plan, std::int64_t start_ns, bool with_trigger,
+EdgeSchedule make_edge_schedule(const core::ExposurePlan& plan, std::int64_t start_ns, bool with_trigger,
                                 std::int64_t trigger_pulse_ns) noexcept;
 
 /// A time the LED ring was on, from its achieved edges (CLOCK_MONOTONIC).
@@ -89,7 +89,7 @@ std::size_t led_intervals(std::span<const StrobeEdge> edges, std::span<LitInterv
 /// light fell in the exposure (the frame must not be measured) or more than
 /// ExposurePlan::kMaxPulses pieces did.
 bool light_in_exposure(std::span<const LitInterval> lit, std::int64_t start_ns, double exposure_us,
-                       dsp::ExposurePlan& plan) noexcept;
+                       core::ExposurePlan& plan) noexcept;
 
 /// What one fire() achieved.
 struct FireReport {
@@ -110,7 +110,7 @@ class StrobeDriver {
   [[nodiscard]] virtual std::string describe() const = 0;
   /// The plan for the frames from now on, and their period. False when the
   /// driver cannot do the plan (e.g. pwm with two pulses) or a write failed.
-  virtual bool arm(const dsp::ExposurePlan& plan, double frame_period_us) noexcept = 0;
+  virtual bool arm(const core::ExposurePlan& plan, double frame_period_us) noexcept = 0;
   /// One frame: drives the armed plan's edges from `start_ns` (monotonic) and
   /// returns when the last is done. Hardware-timed drivers return at once.
   virtual FireReport fire(std::int64_t start_ns) noexcept = 0;

@@ -6,8 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "gvs/dsp/estimate.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 
 namespace gvs::dsp {
 

@@ -10,8 +10,7 @@
 // follow the speed: T = L_target * s / v.
 #pragma once
 
-#include "gvs/dsp/estimate.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 
 namespace gvs::dsp {
 

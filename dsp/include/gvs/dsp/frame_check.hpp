@@ -6,7 +6,7 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "gvs/dsp/method.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 
 namespace gvs::dsp {
 

@@ -16,9 +16,7 @@
 #include <opencv2/core/types.hpp>
 
 #include "gvs/dsp/blur_analysis.hpp"
-#include "gvs/dsp/estimate.hpp"
-#include "gvs/dsp/frame.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/gvs_settings.hpp"
 #include "gvs/dsp/gvs_tracking.hpp"
 #include "gvs/dsp/phase_correlation.hpp"

@@ -9,9 +9,7 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "gvs/dsp/estimate.hpp"
-#include "gvs/dsp/frame.hpp"
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/gvs_settings.hpp"
 #include "gvs/dsp/sensor_pattern.hpp"
 

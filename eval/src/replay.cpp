@@ -1,10 +1,10 @@
-#include "gvs/daemon/replay.hpp"
+#include "gvs/eval/replay.hpp"
 
 #include <chrono>
 
 #include <opencv2/core.hpp>
 
-namespace gvs::daemon {
+namespace gvs::eval {
 
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -12,18 +12,18 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-ReplayStats replay_dataset(const drivers::DatasetReader& dataset, FrameProcessorConfig config,
-                           const std::function<void(const dsp::VelocityEstimate&)>& sink,
+ReplayStats replay_dataset(const drivers::DatasetReader& dataset, dsp::FrameProcessorConfig config,
+                           const std::function<void(const core::VelocityEstimate&)>& sink,
                            const ReplayOptions& options) {
   config.estimator.camera = dataset.camera().geometry;
-  FrameProcessor processor(config);
+  dsp::FrameProcessor processor(config);
   ReplayStats stats;
   cv::Mat as_float;
   cv::Mat spectrum;
   for (std::size_t i = 0; i < dataset.frames().size(); ++i) {
     const drivers::FrameRecord& record = dataset.frames()[i];
     auto t0 = std::chrono::steady_clock::now();
-    dsp::FrameView frame;
+    core::FrameView frame;
     frame.gray = dataset.load_gray(i);
     frame.index = record.index;
     frame.t_ns = record.t_ns;
@@ -31,7 +31,7 @@ ReplayStats replay_dataset(const drivers::DatasetReader& dataset, FrameProcessor
     stats.decode_s += seconds_since(t0);
 
     t0 = std::chrono::steady_clock::now();
-    const dsp::VelocityEstimate e = processor.process(frame);
+    const core::VelocityEstimate e = processor.process(frame);
     stats.estimate_s += seconds_since(t0);
 
     if (options.time_reference_dft) {
@@ -47,4 +47,4 @@ ReplayStats replay_dataset(const drivers::DatasetReader& dataset, FrameProcessor
   return stats;
 }
 
-}  // namespace gvs::daemon
+}  // namespace gvs::eval

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "gvs/daemon/accuracy.hpp"
+#include "gvs/eval/accuracy.hpp"
 
-using gvs::daemon::evaluate_accuracy;
+using gvs::eval::evaluate_accuracy;
 using gvs::drivers::EstimateRow;
 using gvs::drivers::TruthRecord;
 
@@ -36,14 +36,14 @@ EstimateRow estimate(std::int64_t index, std::optional<double> speed_kmh, std::o
   r.estimate.has_yaw_rate = yaw_dps.has_value();
   r.estimate.yaw_rate_dps = yaw_dps.value_or(0.0);
   r.estimate.quality = 1.0;
-  r.estimate.method = gvs::dsp::Method::pair;
+  r.estimate.method = gvs::core::Method::pair;
   return r;
 }
 
 }  // namespace
 
 TEST(Accuracy, ErrorStatsMatchTheDefinitions) {
-  const auto s = gvs::daemon::error_stats({1.0, -1.0, 3.0});
+  const auto s = gvs::eval::error_stats({1.0, -1.0, 3.0});
   EXPECT_EQ(s.count, 3U);
   EXPECT_DOUBLE_EQ(s.mean, 1.0);
   EXPECT_DOUBLE_EQ(s.rms, std::sqrt(11.0 / 3.0));
@@ -122,11 +122,11 @@ TEST(Accuracy, YawRateErrorOnlyWhereBothExist) {
 
 TEST(Accuracy, TableAndJsonCarryTheFigures) {
   const auto r = evaluate_accuracy({truth(0, 30.0, 1.0)}, {estimate(0, 33.0, 1.5)});
-  const std::string table = gvs::daemon::format_accuracy_table(r);
+  const std::string table = gvs::eval::format_accuracy_table(r);
   EXPECT_NE(table.find("15-60"), std::string::npos) << table;
   EXPECT_NE(table.find("0.500"), std::string::npos) << table;  // direction error
   EXPECT_NE(table.find("10.00"), std::string::npos) << table;  // speed error %
-  const std::string json = gvs::daemon::format_accuracy_json(r);
+  const std::string json = gvs::eval::format_accuracy_json(r);
   EXPECT_NE(json.find("\"direction_deg\""), std::string::npos);
 }
 
@@ -139,6 +139,6 @@ TEST(Accuracy, SpeedsOffByMoreThanFivePercentAreCountedPerBand) {
   EXPECT_EQ(r.bands[2].speed_off, 2U);
   EXPECT_EQ(r.bands[0].speed_off, 0U);
   EXPECT_EQ(r.all.speed_off, 2U);
-  EXPECT_NE(gvs::daemon::format_accuracy_table(r).find("off>5"), std::string::npos);
-  EXPECT_NE(gvs::daemon::format_accuracy_json(r).find("\"speed_off_5pct\": 2"), std::string::npos);
+  EXPECT_NE(gvs::eval::format_accuracy_table(r).find("off>5"), std::string::npos);
+  EXPECT_NE(gvs::eval::format_accuracy_json(r).find("\"speed_off_5pct\": 2"), std::string::npos);
 }

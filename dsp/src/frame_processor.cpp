@@ -1,24 +1,24 @@
-#include "gvs/daemon/frame_processor.hpp"
+#include "gvs/dsp/frame_processor.hpp"
 
 #include <cmath>
 
-namespace gvs::daemon {
+namespace gvs::dsp {
 
 FrameProcessor::FrameProcessor(const FrameProcessorConfig& config)
-    : config_(config), estimator_(dsp::make_estimator(config.estimator)) {}
+    : config_(config), estimator_(make_estimator(config.estimator)) {}
 
 void FrameProcessor::reset() noexcept {
   estimator_->reset();
   have_previous_ = false;
 }
 
-dsp::VelocityEstimate FrameProcessor::reject(const dsp::FrameView& frame, RejectReason reason) noexcept {
+core::VelocityEstimate FrameProcessor::reject(const core::FrameView& frame, RejectReason reason) noexcept {
   ++rejects_.by_reason[static_cast<std::size_t>(reason)];
-  return dsp::no_estimate(frame.index, dsp::mid_exposure_ns(frame.t_ns, frame.exposure), reject_method(reason));
+  return core::no_estimate(frame.index, core::mid_exposure_ns(frame.t_ns, frame.exposure), reject_method(reason));
 }
 
-dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) {
-  const dsp::CameraGeometry& cam = config_.estimator.camera;
+core::VelocityEstimate FrameProcessor::process(const core::FrameView& frame) {
+  const core::CameraGeometry& cam = config_.estimator.camera;
   if (frame.gray.empty() || frame.gray.type() != CV_8UC1 || frame.gray.cols != cam.width_px ||
       frame.gray.rows != cam.height_px) {
     return reject(frame, RejectReason::wrong_size);
@@ -48,4 +48,4 @@ dsp::VelocityEstimate FrameProcessor::process(const dsp::FrameView& frame) {
   return estimator_->estimate(frame);
 }
 
-}  // namespace gvs::daemon
+}  // namespace gvs::dsp

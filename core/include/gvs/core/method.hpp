@@ -7,11 +7,11 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <iosfwd>
+#include <ostream>
 #include <optional>
 #include <string_view>
 
-namespace gvs::dsp {
+namespace gvs::core {
 
 /// Every outcome an estimator, the daemon's frame checks or a test source
 /// can report. The order is the order of kMethods.
@@ -158,6 +158,7 @@ constexpr std::optional<Method> method_from_can_code(std::uint8_t code) {
 }
 
 /// Writes the CSV word (for test messages and logs).
-std::ostream& operator<<(std::ostream& out, Method m);
+/// The method's word, for logs and test messages.
+inline std::ostream& operator<<(std::ostream& out, Method m) { return out << method_word(m); }
 
-}  // namespace gvs::dsp
+}  // namespace gvs::core

@@ -10,9 +10,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
-namespace gvs::dsp {
+namespace gvs::core {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -83,4 +83,4 @@ inline Vec2 unit_vector(Vec2 v) {
 /// Direction of travel, atan2(vy, vx) in degrees, (-180, 180].
 inline double direction_deg(Vec2 v) { return wrap_deg(rad_to_deg(std::atan2(v.y, v.x))); }
 
-}  // namespace gvs::dsp
+}  // namespace gvs::core

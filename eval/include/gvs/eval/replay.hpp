@@ -1,21 +1,21 @@
 // Replay: every frame of a dataset, in order, through the daemon's
-// FrameProcessor (what `gvs replay` runs).
+// dsp::FrameProcessor (what `gvs replay` runs).
 #pragma once
 
 #include <cstddef>
 #include <functional>
 
-#include "gvs/daemon/frame_processor.hpp"
+#include "gvs/dsp/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
-#include "gvs/dsp/estimate.hpp"
+#include "gvs/core/estimate.hpp"
 
-namespace gvs::daemon {
+namespace gvs::eval {
 
 struct ReplayStats {
   std::size_t frames = 0;
   std::size_t with_estimate = 0;  ///< quality > 0
   double decode_s = 0.0;          ///< reading and decoding the PNGs
-  double estimate_s = 0.0;        ///< FrameProcessor::process
+  double estimate_s = 0.0;        ///< dsp::FrameProcessor::process
   double dft_s = 0.0;             ///< the reference cost: one forward DFT per frame (if asked)
 };
 
@@ -26,8 +26,8 @@ struct ReplayOptions {
 /// Runs the processor over every frame in `dataset`; `sink` gets each estimate
 /// in frame order. The processor takes its camera geometry from the dataset.
 /// Throws drivers::DatasetError for unreadable frames.
-ReplayStats replay_dataset(const drivers::DatasetReader& dataset, FrameProcessorConfig config,
-                           const std::function<void(const dsp::VelocityEstimate&)>& sink,
+ReplayStats replay_dataset(const drivers::DatasetReader& dataset, dsp::FrameProcessorConfig config,
+                           const std::function<void(const core::VelocityEstimate&)>& sink,
                            const ReplayOptions& options = {});
 
-}  // namespace gvs::daemon
+}  // namespace gvs::eval

@@ -8,7 +8,7 @@
 
 #include <opencv2/core/mat.hpp>
 
-namespace gvs::dsp {
+namespace gvs::core {
 
 /// One light pulse inside an exposure, relative to the exposure start.
 struct LightPulse {
@@ -71,4 +71,4 @@ struct CameraGeometry {
   double mount_yaw_deg = 0.0;  ///< camera rotation about z vs. nominal, CCW from above
 };
 
-}  // namespace gvs::dsp
+}  // namespace gvs::core

@@ -6,12 +6,12 @@
 #include <cstdint>
 #include <memory>
 
-#include "gvs/daemon/reject_reason.hpp"
-#include "gvs/dsp/estimate.hpp"
+#include "gvs/dsp/reject_reason.hpp"
+#include "gvs/core/estimate.hpp"
 #include "gvs/dsp/estimator.hpp"
-#include "gvs/dsp/frame.hpp"
+#include "gvs/core/frame.hpp"
 
-namespace gvs::daemon {
+namespace gvs::dsp {
 
 /// Why frames got no estimate before reaching the estimator.
 struct FrameRejectCounters {
@@ -28,7 +28,7 @@ struct FrameRejectCounters {
 };
 
 struct FrameProcessorConfig {
-  dsp::EstimatorConfig estimator;
+  EstimatorConfig estimator;
   double max_exposure_us = 100000.0;  ///< longer is treated as a broken frame
   double max_gap_s = 0.5;             ///< a longer gap resets pair history
 };
@@ -42,22 +42,22 @@ class FrameProcessor {
   /// are answered with no estimate; what the estimator itself throws
   /// (cv::Exception from OpenCV) passes through to the caller (gvsd catches
   /// it in FrameEstimator::estimate).
-  dsp::VelocityEstimate process(const dsp::FrameView& frame);
+  core::VelocityEstimate process(const core::FrameView& frame);
   void reset() noexcept;
   /// A frame the source could not deliver (RejectReason::unreadable, ...):
   /// no estimate, counted under its reason; the estimator keeps its
   /// history, so the next good frame is measured as usual.
-  dsp::VelocityEstimate reject(const dsp::FrameView& frame, RejectReason reason) noexcept;
+  core::VelocityEstimate reject(const core::FrameView& frame, RejectReason reason) noexcept;
 
   [[nodiscard]] const FrameRejectCounters& rejects() const { return rejects_; }
   [[nodiscard]] const FrameProcessorConfig& config() const { return config_; }
 
  private:
   FrameProcessorConfig config_;
-  std::unique_ptr<dsp::VelocityEstimator> estimator_;
+  std::unique_ptr<VelocityEstimator> estimator_;
   FrameRejectCounters rejects_;
   bool have_previous_ = false;
   std::int64_t previous_t_ns_ = 0;
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::dsp

@@ -3,9 +3,9 @@
 
 #include <cstdint>
 
-#include "gvs/dsp/method.hpp"
+#include "gvs/core/method.hpp"
 
-namespace gvs::dsp {
+namespace gvs::core {
 
 /// Velocity of the sensor over the ground, as estimated from one frame (and,
 /// for pair methods, the one before it). Fields without their `has_` flag are
@@ -57,4 +57,4 @@ inline VelocityEstimate no_estimate(std::int64_t index, std::int64_t t_ns, Metho
   return e;
 }
 
-}  // namespace gvs::dsp
+}  // namespace gvs::core

@@ -1,4 +1,4 @@
-#include "gvs/daemon/accuracy.hpp"
+#include "gvs/eval/accuracy.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gvs/dsp/geometry.hpp"
+#include "gvs/core/geometry.hpp"
 
-namespace gvs::daemon {
+namespace gvs::eval {
 
 namespace {
 
@@ -26,7 +26,7 @@ ConstantDirectionSummary summarise_direction(double truth_deg, std::vector<doubl
   s.count = values.size();
   if (values.empty()) return s;
   // Unwrap around the truth so a run near +-180 deg summarises sensibly.
-  for (double& v : values) v = truth_deg + dsp::wrap_deg(v - truth_deg);
+  for (double& v : values) v = truth_deg + core::wrap_deg(v - truth_deg);
   const ErrorStats st = error_stats(values);
   s.mean = st.mean;
   s.std = st.std;
@@ -96,7 +96,7 @@ AccuracyReport evaluate_accuracy(const std::vector<drivers::TruthRecord>& truth,
   double dir_max = -1e9;
   std::size_t moving_rows = 0;
   for (const auto& t : truth) {
-    if (t.direction_deg && dsp::mps_to_kmh(t.speed_mps) >= kMovingKmh) {
+    if (t.direction_deg && core::mps_to_kmh(t.speed_mps) >= kMovingKmh) {
       dir_min = std::min(dir_min, *t.direction_deg);
       dir_max = std::max(dir_max, *t.direction_deg);
       ++moving_rows;
@@ -108,14 +108,14 @@ AccuracyReport evaluate_accuracy(const std::vector<drivers::TruthRecord>& truth,
   std::size_t matched = 0;
   for (const auto& t : truth) {
     const auto it = by_index.find(t.index);
-    const dsp::VelocityEstimate* e = it == by_index.end() ? nullptr : &it->second->estimate;
+    const core::VelocityEstimate* e = it == by_index.end() ? nullptr : &it->second->estimate;
     if (e == nullptr) {
       ++r.truth_without_estimate;
       continue;
     }
     ++matched;
-    const double kmh = dsp::mps_to_kmh(t.speed_mps);
-    if (t.speed_mps < dsp::VelocityEstimate::kStandstillMps) {
+    const double kmh = core::mps_to_kmh(t.speed_mps);
+    if (t.speed_mps < core::VelocityEstimate::kStandstillMps) {
       ++r.standstill_frames;
       if (e->has_speed) {
         ++r.standstill_with_speed;
@@ -139,7 +139,7 @@ AccuracyReport evaluate_accuracy(const std::vector<drivers::TruthRecord>& truth,
       if (e->has_speed) ++band->with_speed;
       if (moving && e->has_direction && t.direction_deg) {
         ++band->with_direction;
-        errs.direction.push_back(dsp::wrap_deg(e->direction_deg - *t.direction_deg));
+        errs.direction.push_back(core::wrap_deg(e->direction_deg - *t.direction_deg));
       }
       if (moving && e->has_speed) {
         const double pct = (e->speed_mps - t.speed_mps) / t.speed_mps * 100.0;
@@ -257,4 +257,4 @@ std::string format_accuracy_json(const AccuracyReport& r) {
   return j.dump(2);
 }
 
-}  // namespace gvs::daemon
+}  // namespace gvs::eval

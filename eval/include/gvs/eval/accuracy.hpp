@@ -10,7 +10,7 @@
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
 
-namespace gvs::daemon {
+namespace gvs::eval {
 
 /// Summary statistics of a set of errors.
 struct ErrorStats {
@@ -75,4 +75,4 @@ std::string format_accuracy_table(const AccuracyReport& report);
 /// The same as JSON (for scripts that aggregate Monte Carlo runs).
 std::string format_accuracy_json(const AccuracyReport& report);
 
-}  // namespace gvs::daemon
+}  // namespace gvs::eval

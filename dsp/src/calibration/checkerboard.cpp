@@ -1,9 +1,9 @@
-#include "gvs/drivers/checkerboard.hpp"
+#include "gvs/dsp/checkerboard.hpp"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace gvs::drivers {
+namespace gvs::dsp {
 
 std::optional<CheckerboardMeasurement> measure_checkerboard(const cv::Mat& gray, cv::Size inner, double square_mm) {
   if (gray.empty() || gray.type() != CV_8UC1) return std::nullopt;
@@ -16,10 +16,10 @@ std::optional<CheckerboardMeasurement> measure_checkerboard(const cv::Mat& gray,
     cv::cornerSubPix(gray, m.corners, cv::Size(5, 5), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 0.01));
   }
-  const auto scale = dsp::grid_scale(m.corners, inner, square_mm);
+  const auto scale = grid_scale(m.corners, inner, square_mm);
   if (!scale) return std::nullopt;
   m.scale = *scale;
   return m;
 }
 
-}  // namespace gvs::drivers
+}  // namespace gvs::dsp

@@ -8,11 +8,11 @@
 
 #include "gvs/dsp/calibration.hpp"
 
-namespace gvs::drivers {
+namespace gvs::dsp {
 
 struct CheckerboardMeasurement {
   std::vector<cv::Point2f> corners;  ///< inner corners, sub-pixel, row by row
-  dsp::GridScale scale;
+  GridScale scale;
 };
 
 /// Finds the `inner` corners (columns x rows of inner corners, e.g. 9x6 for
@@ -21,4 +21,4 @@ struct CheckerboardMeasurement {
 /// is not found (out of view, blurred, too dark).
 std::optional<CheckerboardMeasurement> measure_checkerboard(const cv::Mat& gray, cv::Size inner, double square_mm);
 
-}  // namespace gvs::drivers
+}  // namespace gvs::dsp
