@@ -16,11 +16,13 @@
 // The term 2 R_s(t) does not vanish at t = L on asphalt: its stones (several
 // mm, tens of pixels) leave a broad, uneven pedestal under the trough whose
 // slope moves the trough by tenths of a pixel, differently on each patch of
-// ground. Dropping |k| < 0.2 rad/px (wavelengths over ~30 px) and rolling
-// off at 0.4 instead of 0.6 rad/px halved the error of L on the simulator
-// (`gvs_sim_eval const adaptive normal`, 60-140 km/h: speed 1.25 -> 0.63 %
-// RMS; docs/estimator.md), and the sub-pixel fit divides out the window's
-// overlap (spectrum.hpp).
+// ground. Dropping |k| < 0.2 rad/px (wavelengths over ~30 px) takes that
+// pedestal out, and rolling off at 0.4 rad/px keeps the noise that rules
+// above it out of the trough; both were chosen by the scatter of L on
+// simulated strobe frames (docs/estimator.md, "Building blocks";
+// measurements: commit a15b63f; `gvs_sim_eval const adaptive normal`,
+// 60-140 km/h: speed 0.62 % RMS). The sub-pixel fit divides out the
+// window's overlap (spectrum.hpp).
 #include <algorithm>
 #include <cmath>
 

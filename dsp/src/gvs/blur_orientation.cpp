@@ -108,10 +108,11 @@ StreakAxis BlurAnalyzer::refine_axis(const cv::Mat& spectrum, const StreakAxis& 
   // random texture's periodogram scatters by 100 %) turns it most. With
   // high_k_weight each bin counts min(|k|, 1 rad/px)^2 more, i.e. the moments
   // of the second derivative's spectrum up to 1 rad/px: fixed 3 ms, 15-250
-  // km/h on the simulator, 0.06-0.13 -> 0.02-0.03 deg RMS (docs/estimator.md,
-  // "Streak axis: weight of the line"). Above 1 rad/px the sensor's noise and
-  // column pattern would gain too much; under-exposed frames (texture SNR < 4)
-  // are left unweighted, where it made the axis worse (0.75 -> 4.5 deg).
+  // km/h on the simulator, 0.017-0.035 deg RMS (docs/estimator.md, "Streak
+  // axis: weight of the line"; measurements: commit 0db0541). Above 1 rad/px
+  // the sensor's noise and column pattern would gain too much; under-exposed
+  // frames (texture SNR < 4) are left unweighted: weighted, their axis reads
+  // 4.5 deg RMS at 5-15 km/h (same section).
   StreakAxis axis = start;
   const double cap2 = kLineWeightCap * kLineWeightCap;
   const double n0 = noise_floor(spectrum);

@@ -94,8 +94,9 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
   // 3 ms). The longest exposure keeps the direction (0.1-0.2 deg RMS in the
   // dark, docs/estimator.md "Dark frames"); its streaks give a speed again
   // once the car is slow enough for them (up to 100 px).
-  // (Only frames that gave a direction: texture, if dim. A textureless
-  // frame keeps the plan, as before.)
+  // (Only frames that gave a direction: texture, if dim, with its SNR
+  // measured. A textureless frame has no SNR to judge the light by, so it
+  // keeps the plan.)
   const bool measured_single = frame.pulse_count == 0 && latest.has_direction && latest.texture_snr > 0.0;
   if (measured_single && latest.texture_snr < lim.dark_streak_texture_snr) {
     return continuous(lim.max_exposure_us);
@@ -143,9 +144,9 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
 /// double-pulse frame the streak that brings its texture SNR to
 /// min_pulse_texture_snr. With shot noise ruling, the SNR (power over noise
 /// power) grows about as the light: SNR(b) = SNR_frame * b / b_frame
-/// (measured: 2 -> 4 px per pulse took 1.3 -> 3.4 at 140-250 km/h). The
-/// answer does not depend on the frame's own pulses, so it does not swing
-/// back once the longer pulses have brought the light.
+/// (docs/estimator.md, "Exposure control"). The answer does not depend on
+/// the frame's own pulses, so it does not swing back once the longer pulses
+/// have brought the light.
 double pulse_blur_px(const VelocityEstimate& latest, const ExposurePlan& frame, double v_px_per_us,
                      const ExposureLimits& lim) {
   if (frame.pulse_count < 2 || !(latest.texture_snr > 0.0)) return lim.max_pulse_blur_px;

@@ -109,10 +109,9 @@ bool turn_is_plausible(Vec2 v_pair, const MotionMemory& m, std::int64_t t_mid_ns
 /// slope comes from the previous pair (dt earlier), or else from the previous
 /// single-frame estimate, which refers to the previous frame (dt/2 earlier),
 /// whatever its quality: a dark frame's is low by design (at most 0.45)
-/// while its speed is within ~1 % (`crawl` under, decelerating at 4 m/s^2:
-/// the first pair after dark single frames was 2.8 deg and 5 % off without
-/// it; a former gate at quality 0.3 kept such frames out, and no
-/// normal-light run of docs/estimator.md changes without it).
+/// while its speed is within ~1 %, and the first pair after dark single
+/// frames of a decelerating car needs that slope (under-exposed 0-5 km/h;
+/// measurements: commit 94b4da9).
 Vec2 compensate_lag(Vec2 v_pair, const MotionMemory& m, std::int64_t index, double dt_s,
                     const GvsEstimatorSettings& set) {
   Vec2 v = v_pair;
@@ -146,9 +145,10 @@ PairResult analyse_pair(const FrameView& frame, std::int64_t t_mid_ns, double dt
                         const GvsEstimatorSettings& set, PairWorkspace& ws) {
   PairResult result;
   VelocityEstimate e = no_estimate(frame.index, t_mid_ns, Method::no_match);
-  // In the dark, both frames without the sensor's pixel pattern
-  // (pair_pixel_pattern_min_frames; docs/estimator.md, "Dark frames",
-  // tenth session).
+  // In the dark the sensor's pixel offsets, the same in both frames,
+  // outweigh the streaked texture in most bins and vote for lag 0: both
+  // frames without the pixel pattern once it is learnt
+  // (pair_pixel_pattern_min_frames; docs/estimator.md, "Dark frames").
   const bool pattern_out = mean_grey < set.unlearnt_max_mean_grey &&
                            track.pattern.pixel_frames() >= set.pair_pixel_pattern_min_frames;
   const HalfSpectra* previous = &track.previous.halves;

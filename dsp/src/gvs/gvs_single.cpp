@@ -169,7 +169,8 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, const Str
   // its length the speed from min_length.
   // A dark frame gives a speed only from a streak end up to
   // dark_max_streak_px: in 10-seed `const`/`accel` under-exposed runs, ends
-  // of 107-162 px were found 5-25 % short (6 frames).
+  // of 107-162 px were found 5-25 % short (6 frames; measurements: commit
+  // 944efc3).
   end.clear = consistent && accepted && axis.texture_snr >= set.min_speed_texture_snr;
   end.has_speed = end.clear && len.length_px >= search.min_length_px &&
                   !(pattern_out && len.length_px > set.dark_max_streak_px);
@@ -198,7 +199,8 @@ StreakAxis refine_streak_axis(const StreakAxis& axis, bool pattern_out, bool lin
 /// refined line (`dark_line`: ring gain along it) is sharper at every length
 /// it is refined at (from ~50 px): the end's lag is read through the noise
 /// of the whole spectrum. Under-exposed 3 ms seed-1 runs, 5-15 km/h:
-/// 0.23-0.33 -> 0.14-0.20 deg RMS (docs/estimator.md, "Dark frames").
+/// 0.14-0.20 deg RMS (docs/estimator.md, "Dark frames"; measurements:
+/// commit fe69b64).
 Vec2 motion_axis(const StreakAxis& axis, const StreakEnd& end, bool dark_line, bool line_sharp,
                  const CameraGeometry& cam, const GvsEstimatorSettings& set) {
   double u_row = axis.u_row;
@@ -238,8 +240,9 @@ double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern
   // Measured: 5-14 deg RMS at SNR 1-3, 1-3 deg at 4-8, 0.1-0.4 deg from 10:
   // the quality falls with the square of the SNR below good_texture_snr.
   // Dark frames (measured with the pixel pattern taken out) are no better at
-  // a higher SNR: 0.1-0.3 deg RMS at every SNR, max ~1.3 deg (six
-  // under-exposed seed-1 runs): a fixed, low quality.
+  // a higher SNR: 0.06-0.29 deg RMS in every SNR bin, max 1.3 deg (six
+  // under-exposed seed-1 runs; docs/estimator.md, "Dark frames"): a fixed,
+  // low quality.
   const double snr_ratio = std::min(axis.texture_snr / set.good_texture_snr, 1.0);
   const double q_snr = pattern_out ? set.dark_frame_quality : std::max(snr_ratio * snr_ratio, 0.001);
   return q_dir * q_len * q_snr;

@@ -31,8 +31,10 @@ struct ExposureLimits {
   /// Re-plan when the predicted streak leaves [min_streak_px, max_streak_px].
   /// Short streaks read short, most with saturated pixels (`spin adaptive
   /// over`, seed 1: 20-30 px -2.5 % mean, 30-40 px -1.3 %, 40-50 px -0.9 %;
-  /// normal light -0.7 / -0.6 / -0.4 %): a decelerating car let them shrink
-  /// to 25 px before, and one frame was 6.7 % slow at quality 0.54.
+  /// normal light -0.7 / -0.6 / -0.4 %), and while the car brakes its streak
+  /// shrinks until the re-plan, so short, biased lengths come in runs
+  /// (docs/estimator.md, "Short streaks, faint streaks"; measurements:
+  /// commit 525e81e).
   double min_streak_px = 40.0;
   double max_streak_px = 80.0;         ///<   [min_streak_px, max_streak_px] (hysteresis band)
   /// Dark single-strobe frames: below this texture SNR (the estimator's own

@@ -83,7 +83,8 @@ struct GvsEstimatorSettings {
   /// A clear streak end from this length gives the axis (its lag's direction),
   /// even where it is too short for a speed (below min_streak_px, or
   /// min_streak_px_cold without a recent speed): on the thesis's 20 px frames
-  /// the end is within 0.5 deg, the spectrum's orientation 1.4 deg off.
+  /// the end is within 0.5 deg, the spectrum's orientation 1.0-1.5 deg off
+  /// (docs/accuracy.md, "The thesis's own frames").
   double axis_from_streak_end_px = 18.0;
   /// ... up to this length: longer streaks give a sharper line in the
   /// spectrum (refined, weighted to high |k|: ~0.03 deg RMS against ~0.1 from

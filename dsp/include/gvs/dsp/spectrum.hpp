@@ -16,9 +16,9 @@ namespace gvs::dsp {
 /// spectrum (which would pull orientations towards 0/90 deg), but it also
 /// throws texture away, and on asphalt the texture's own randomness is what
 /// limits the streak axis: a Hann window (taper 1) keeps an effective 26 %
-/// of the frame's area, this Tukey window (taper 0.25) 75 %. Measured
-/// with `gvs_sim_eval` (docs/estimator.md): fixed 3 ms direction at
-/// 60-140 km/h 0.125-0.140 -> 0.085-0.108 deg RMS, max 0.69-0.75 -> 0.25-0.33.
+/// of the frame's area, this Tukey window (taper 0.25) 75 %, and the fixed
+/// 3 ms direction at 60-140 km/h is sharper with it (docs/estimator.md,
+/// "Building blocks"; measurements: commit fce183e).
 inline constexpr double kWindowTaper = 0.25;
 
 /// Tukey (tapered cosine) window of n samples: 1 in the middle, a raised
