@@ -10,8 +10,6 @@ namespace gvs::dsp {
 
 namespace {
 
-Method method_name(const Method names[3], int source) { return names[source]; }
-
 /// Texture SNR of a double-pulse frame, its spectrum in ws.spectrum; a dark
 /// frame's without the sensor's whole pattern.
 double double_pulse_spectrum(const cv::Mat& gray, const SensorPattern& pattern, const GvsEstimatorSettings& set,
@@ -110,7 +108,7 @@ DoublePulseResult analyse_double_pulse(const FrameView& frame, std::int64_t t_mi
   // below ~1 (under-exposed above ~100 km/h) one frame in ten is far off.
   const double q_snr = std::clamp(texture_snr / set.good_double_texture_snr, 0.05, 1.0);
   e.quality = q_peak * q_unique * q_snr * sign_quality(sign.source);
-  e.method = method_name(kNames, source);
+  e.method = kNames[source];
   return done();
 }
 

@@ -9,8 +9,6 @@ namespace gvs::dsp {
 
 namespace {
 
-Method method_name(const Method names[3], int source) { return names[source]; }
-
 /// The spectrum of `gray` through `with` into `spectrum`, without the sensor's
 /// pixel pattern (`pattern_out`) or else its column pattern (once learnt).
 void take_spectrum(WindowedSpectrum& with, const cv::Mat& gray, cv::Mat& spectrum,
@@ -314,7 +312,7 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
     // streak somewhat shorter whose end the gates refused.
     result.note.speed_floor_mps = 0.5 * max_px * m_per_px / t_s;
   }
-  e.method = method_name(too_long ? kLongNames : kNames, source);
+  e.method = (too_long ? kLongNames : kNames)[source];
   return done();
 }
 
