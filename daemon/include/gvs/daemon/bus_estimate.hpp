@@ -1,5 +1,5 @@
 // The bridge between the estimator's output and the CAN library, which does
-// not know dsp's types: the estimate as the bus sees it, and GVS_Method's
+// not know the estimate type: the estimate as the bus sees it, and GVS_Method's
 // words for `gvs monitor`.
 #pragma once
 

@@ -64,7 +64,7 @@ enum class HealthShow : std::uint8_t {
     "frames the estimator ran on")                                                                                \
   X(frames_skipped, std::uint64_t, processing, processing, delta, "skipped {v}", "frames",                         \
     "older frames passed over for the newest")                                                                    \
-  X(frames_rejected, std::uint64_t, processing, processing, delta_by_reason, "rejected {v}", "frames",                       \
+  X(frames_rejected, std::uint64_t, processing, processing, delta_by_reason, "rejected {v}", "frames",            \
     "bad input frames (unreadable, wrong size or exposure, time backwards)")                                      \
   X(estimator_failures, std::uint64_t, processing, processing, delta, "estimator failures {v}", "frames",          \
     "frames without a speed estimate")                                                                            \
