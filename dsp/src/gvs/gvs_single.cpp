@@ -66,6 +66,14 @@ AxisSpectrum axis_spectrum(const cv::Mat& gray, double mean_grey, const Tracking
   return s;
 }
 
+/// Mean grey over the RMS of the white noise per pixel: noise of variance
+/// sigma^2 has the power sigma^2 sum(w^2) in every bin of the windowed
+/// spectrum (Parseval), and the noise floor is measured beyond the texture.
+double pixel_snr(double mean_grey, const SpectrumWorkspace& ws) {
+  const double noise_power = ws.blur.noise_floor(ws.spectrum) / ws.tukey.window_energy();
+  return noise_power > 0.0 ? mean_grey / std::sqrt(noise_power) : 0.0;
+}
+
 /// Where the streak end is looked for, and how clear it must be.
 struct StreakSearch {
   double lo_px = 0.0;
@@ -148,8 +156,8 @@ bool not_an_alias(const cv::Mat& gray, const StreakAxis& axis, const StreakLengt
 }
 
 StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, const StreakSearch& search,
-                          const SensorPattern& pattern, bool pattern_out, const GvsEstimatorSettings& set,
-                          SpectrumWorkspace& ws) {
+                          const SensorPattern& pattern, bool pattern_out, bool well_lit,
+                          const GvsEstimatorSettings& set, SpectrumWorkspace& ws) {
   StreakEnd end;
   const StreakLength& len = end.length;
   if (search.hi_px > search.lo_px + 2.0) {
@@ -169,7 +177,14 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, const Str
   // dark_max_streak_px: in 10-seed `const`/`accel` under-exposed runs, ends
   // of 107-162 px were found 5-25 % short (6 frames; measurements: commit
   // 944efc3).
-  end.clear = consistent && accepted && axis.texture_snr >= set.min_speed_texture_snr;
+  // A well-lit frame with a faint texture is blurred, not dark (a streak of
+  // L px keeps about 1/L of the texture's power): its streak end counts at
+  // a lower texture SNR if it stands out as clearly as a start-up end must
+  // (docs/estimator.md, "Dark or blurred").
+  const bool faint = axis.texture_snr < set.min_speed_texture_snr;
+  const bool lit_evidence = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit &&
+                            len.significance >= set.min_streak_significance_cold;
+  end.clear = consistent && accepted && (!faint || lit_evidence);
   end.has_speed = end.clear && len.length_px >= search.min_length_px &&
                   !(pattern_out && len.length_px > set.dark_max_streak_px);
   if (end.has_speed && cold) {
@@ -275,6 +290,7 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   const bool pattern_out = spectrum.pattern_out;
   result.note = {.axis_measured = true, .anisotropy = axis.anisotropy, .dark = pattern_out};
   e.texture_snr = axis.texture_snr;
+  e.pixel_snr = pixel_snr(mean_grey, ws);
   if (axis.texture_snr < set.min_texture_snr) {
     e.method = Method::no_texture;
     return done();
@@ -295,7 +311,8 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   const double t_s = frame.exposure.lit_time_us() * 1e-6;
   const double m_per_px = cam.mm_per_px * 1e-3;
   const StreakSearch search = streak_search(track.motion, frame.index, t_mid_ns, max_px, t_s, m_per_px, set);
-  const StreakEnd end = find_streak_end(frame.gray, axis, search, track.pattern, pattern_out, set, ws);
+  const StreakEnd end =
+      find_streak_end(frame.gray, axis, search, track.pattern, pattern_out, e.well_lit(), set, ws);
 
   const Vec2 a = motion_axis(axis, end, pattern_out && refine, line_sharp, cam, set);
   const SignChoice sign = choose_sign(track.motion, a, t_mid_ns, 0.0, set);

@@ -40,6 +40,7 @@ WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction) : size_
   window_ = spectrum_window(size, CV_32F, taper_fraction);
   work_.create(size, CV_32F);
   window_sum_ = cv::sum(window_)[0];
+  window_energy_ = window_.dot(window_);
 }
 
 template <class RowOffsets>

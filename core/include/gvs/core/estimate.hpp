@@ -30,6 +30,12 @@ struct VelocityEstimate {
   /// controller lengthens the double-pulse pulses, or in adaptive mode
   /// takes the longest exposure (more light).
   double texture_snr = 0.0;
+  /// How well lit the frame is, whatever its texture: mean grey over the RMS
+  /// of its white noise (shot, read, fixed pattern) per pixel (single-frame
+  /// analysis; 0 = not measured). A long streak also leaves a low
+  /// texture_snr (the blur removes the texture's power), but only a frame
+  /// that is not well_lit() is short of light.
+  double pixel_snr = 0.0;
   /// The estimator had measured a speed shortly before this frame (and looked
   /// for this frame's speed near it). Without it, a missing speed is a
   /// start-up miss: the exposure controller then searches the exposures.
@@ -44,7 +50,14 @@ struct VelocityEstimate {
     return has_speed && (has_direction || speed_mps < kStandstillMps);
   }
 
+  /// Enough light that a faint texture means blur, not darkness: the
+  /// simulator's normal light at 3 ms gives a pixel SNR of 38-56 (procedural
+  /// and photographed ground), its under-exposed frames 18 (docs/estimator.md,
+  /// "Dark or blurred").
+  [[nodiscard]] bool well_lit() const { return pixel_snr >= kWellLitPixelSnr; }
+
   static constexpr double kStandstillMps = 0.01;
+  static constexpr double kWellLitPixelSnr = 25.0;
 };
 
 /// An estimate that says "nothing measured, because `reason`".

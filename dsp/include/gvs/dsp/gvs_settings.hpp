@@ -106,6 +106,12 @@ struct GvsEstimatorSettings {
   /// Texture power over noise needed for a speed from a streak: below ~4
   /// (under-exposed long streaks) the streak end is found 10-60 % short.
   double min_speed_texture_snr = 4.0;
+  /// ... on a well-lit frame (VelocityEstimate::well_lit()), whose streak
+  /// end then needs min_streak_significance_cold even while tracking: on
+  /// the photographed ground at 3 ms, ends of 36-100 px read within 2 % at
+  /// texture SNR 1.5-6, while tracked ends of significance 3.5-4 at SNR
+  /// 2.5-3 locked onto a fixed 151 px lag of a tiled texture (21 % long).
+  double min_speed_texture_snr_lit = 1.5;
   double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
   double min_streak_depth = 0.06;
   double min_streak_significance = 3.5;       ///< streak end over the ray's RMS

@@ -48,10 +48,14 @@ class WindowedSpectrum {
   void compute(const cv::Mat& gray, cv::Mat& spectrum, const cv::Mat& pixel_offsets);
 
   [[nodiscard]] cv::Size size() const { return size_; }
+  /// sum_x w(x)^2: white noise of variance sigma^2 per pixel has the mean
+  /// power sigma^2 * window_energy() in every bin of the spectrum.
+  [[nodiscard]] double window_energy() const { return window_energy_; }
 
  private:
   cv::Size size_;
   cv::Mat window_;  ///< CV_32F spectrum_window()
+  double window_energy_ = 0.0;
   cv::Mat work_;    ///< CV_32F windowed image
   DftPlan dft_{DftPlan::Direction::forward_real_to_complex};
   double window_sum_ = 0.0;
