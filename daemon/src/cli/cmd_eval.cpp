@@ -117,7 +117,7 @@ void register_eval(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("eval", "Accuracy of an estimates CSV against a dataset's truth, per speed band");
   cmd->add_option("dataset", opts->dataset, "gvs-dataset/1 folder with truth.csv")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("estimates", opts->estimates, "Estimates CSV (from gvs replay)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--plot", opts->plot, "Draw estimate vs truth and error histograms into this PNG");
+  cmd->add_option("--plot", opts->plot, "Draw direction, speed and yaw rate against the truth, their error histograms and why speeds are missing into this PNG");
   cmd->add_option("--title", opts->title, "Plot title (default: the dataset folder's name)");
   cmd->add_option("--json", opts->json, "Also write the figures as JSON");
   cmd->callback([opts] { run_eval(*opts); });
