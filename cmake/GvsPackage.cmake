@@ -3,7 +3,8 @@
 #   (cd build/release && cpack -G DEB)    -> build/release/gvs_<version>_<arch>.deb
 # Contents: gvsd and gvs in /usr/bin, the unit, its user (sysusers.d) and
 # udev rules, the car configuration in /etc/gvsd/, the DBC and the plot
-# script in /usr/share/gvs/, the docs in /usr/share/doc/gvs/. Dependencies
+# script in /usr/share/gvs/, the docs in /usr/share/doc/gvs/, the manual
+# pages gvs(1) and gvsd(1) in /usr/share/man/man1/. Dependencies
 # come from dpkg-shlibdeps (Debian's own library packages).
 
 include(GNUInstallDirs)
@@ -23,8 +24,27 @@ install(PROGRAMS ${PROJECT_SOURCE_DIR}/systemd/gvs-vcan.sh DESTINATION ${CMAKE_I
 file(READ ${PROJECT_SOURCE_DIR}/systemd/gvsd.toml gvs_car_toml)
 string(REPLACE "uri = \"sim:sine\"" "uri = \"libcamera\"" gvs_car_toml "${gvs_car_toml}")
 string(REPLACE "uri = \"candump:-\"" "uri = \"socketcan:can0\"" gvs_car_toml "${gvs_car_toml}")
+# Its references to docs/X.md name the copies the package ships.
+string(REGEX REPLACE "docs/([a-z-]+\\.md)" "/usr/share/doc/gvs/\\1" gvs_car_toml "${gvs_car_toml}")
 file(WRITE ${PROJECT_BINARY_DIR}/package/gvsd.toml "${gvs_car_toml}")
 install(FILES ${PROJECT_BINARY_DIR}/package/gvsd.toml DESTINATION /etc/gvsd COMPONENT gvs)
+
+# Manual pages, written at build time from the programs' own --help (every
+# subcommand's too, cmake/gvs_manpage.py), so they say what the programs say.
+set(gvs_man_dir ${PROJECT_BINARY_DIR}/man)
+set(gvs_man_pages)
+foreach(program gvs gvsd)
+  add_custom_command(OUTPUT ${gvs_man_dir}/${program}.1 ${gvs_man_dir}/${program}.1.gz
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${gvs_man_dir}
+    COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/cmake/gvs_manpage.py $<TARGET_FILE:${program}>
+            ${gvs_man_dir}/${program}.1
+    DEPENDS ${program} ${PROJECT_SOURCE_DIR}/cmake/gvs_manpage.py
+    COMMENT "Manual page ${program}.1 from ${program} --help"
+    VERBATIM)
+  list(APPEND gvs_man_pages ${gvs_man_dir}/${program}.1 ${gvs_man_dir}/${program}.1.gz)
+  install(FILES ${gvs_man_dir}/${program}.1.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT gvs)
+endforeach()
+add_custom_target(gvs_man_pages ALL DEPENDS ${gvs_man_pages})
 
 file(GLOB gvs_docs ${PROJECT_SOURCE_DIR}/docs/*.md)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${gvs_docs} DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT gvs)

@@ -14,8 +14,6 @@ namespace gvs::eval {
 
 namespace {
 
-constexpr double kMovingKmh = 0.5;  // below this, direction and % speed errors are not meaningful
-
 struct Errors {
   std::vector<double> direction, speed_pct, yaw;
 };

@@ -54,7 +54,7 @@ expect 2 "0 is not above 0" "$gvs" monitor - --seconds 0
 
 # 4. Unknown or missing commands: named, with the commands to choose from.
 main_help=$("$gvs" --help)
-commands=$(sed -n '/^Subcommands:/,$p' <<<"$main_help" | awk 'NR > 1 && NF { print $1 }')
+commands=$(sed -n '/^Subcommands:/,/^$/p' <<<"$main_help" | awk 'NR > 1 && NF { print $1 }')  # the list ends at a blank line (a footer follows)
 [[ $(wc -w <<<"$commands") -ge 7 ]] || fail "gvs --help lists no subcommands: $commands"
 for cmd in "" foo; do
   out=$("$gvs" $cmd 2>&1) && fail "'gvs $cmd' succeeded"

@@ -22,7 +22,8 @@ echo "package: $(basename "$deb"), $(du -k "$deb" | cut -f1) KiB"
 contents=$(dpkg-deb -c "$deb" | awk '{print $NF}')
 for f in ./usr/bin/gvsd ./usr/bin/gvs ./usr/lib/systemd/system/gvsd.service ./usr/lib/sysusers.d/gvsd.conf \
          ./usr/lib/udev/rules.d/60-gvsd.rules ./etc/gvsd/gvsd.toml ./usr/share/gvs/gvs.dbc \
-         ./usr/share/gvs/gvs_plot.py ./usr/share/doc/gvs/deployment.md ./usr/share/doc/gvs/README.md; do
+         ./usr/share/gvs/gvs_plot.py ./usr/share/doc/gvs/deployment.md ./usr/share/doc/gvs/README.md \
+         ./usr/share/man/man1/gvs.1.gz ./usr/share/man/man1/gvsd.1.gz; do
   grep -qxF "$f" <<<"$contents" || fail "$f is not in the package"
 done
 depends=$(dpkg-deb -f "$deb" Depends)
@@ -34,6 +35,14 @@ dpkg-deb -e "$deb" "$work/control"
 grep -qx /etc/gvsd/gvsd.toml "$work/control/conffiles" || fail "/etc/gvsd/gvsd.toml is not a conffile"
 for s in postinst prerm postrm; do [[ -x "$work/control/$s" ]] || fail "maintainer script $s missing"; done
 grep -q systemd-sysusers "$work/control/postinst" || fail "postinst does not create the gvsd user"
+# What the package tells its user names files it ships.
+for doc in $(grep -ohE '/usr/share/doc/gvs/[A-Za-z-]+\.md' "$work/control/postinst" <(dpkg-deb --fsys-tarfile "$deb" |
+             tar -xO ./etc/gvsd/gvsd.toml) | sort -u); do
+  grep -qxF ".$doc" <<<"$contents" || fail "the package points to $doc, which it does not ship"
+done
+grep -q '/usr/share/doc/gvs/deployment.md' "$work/control/postinst" || fail "postinst does not point to deployment.md"
+grep -q 'docs/' <(dpkg-deb --fsys-tarfile "$deb" | tar -xO ./etc/gvsd/gvsd.toml) &&
+  fail "the packaged gvsd.toml names docs/ paths the package does not have"
 
 root=$work/root
 dpkg-deb -x "$deb" "$root"

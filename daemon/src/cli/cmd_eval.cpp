@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "gvs/eval/accuracy.hpp"
+#include "gvs/eval/speed_gaps.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
 
@@ -85,6 +86,8 @@ void run_eval(const EvalOptions& o) {
   const auto estimates = drivers::read_estimates_csv(o.estimates);
   const eval::AccuracyReport report = eval::evaluate_accuracy(dataset.truth(), estimates);
   std::printf("%s", eval::format_accuracy_table(report).c_str());
+  const std::string speed_gaps = eval::format_speed_gaps(eval::find_speed_gaps(dataset, estimates));
+  std::printf("%s", speed_gaps.c_str());
   if (!o.json.empty()) {
     std::ofstream out(o.json);
     if (!out) throw std::runtime_error(o.json + ": cannot write");
@@ -95,7 +98,8 @@ void run_eval(const EvalOptions& o) {
     write_joined_csv(joined, dataset.truth(), estimates);
     const std::string title = o.title.empty() ? fs::path(o.dataset).filename().string() : o.title;
     const std::string cmd = "/usr/bin/python3 " + shell_quote(plot_script().string()) + " " +
-                            shell_quote(joined.string()) + " " + shell_quote(o.plot) + " " + shell_quote(title);
+                            shell_quote(joined.string()) + " " + shell_quote(o.plot) + " " + shell_quote(title) +
+                            (speed_gaps.empty() ? std::string() : " --speed-note " + shell_quote(speed_gaps));
     const int rc = std::system(cmd.c_str());
     std::error_code ignore;
     fs::remove(joined, ignore);
@@ -113,7 +117,7 @@ void register_eval(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("eval", "Accuracy of an estimates CSV against a dataset's truth, per speed band");
   cmd->add_option("dataset", opts->dataset, "gvs-dataset/1 folder with truth.csv")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("estimates", opts->estimates, "Estimates CSV (from gvs replay)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--plot", opts->plot, "Draw estimate vs truth and error histograms into this PNG");
+  cmd->add_option("--plot", opts->plot, "Draw direction, speed and yaw rate against the truth, their error histograms and why speeds are missing into this PNG");
   cmd->add_option("--title", opts->title, "Plot title (default: the dataset folder's name)");
   cmd->add_option("--json", opts->json, "Also write the figures as JSON");
   cmd->callback([opts] { run_eval(*opts); });

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -11,6 +12,7 @@
 #include "usage.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/eval/replay.hpp"
+#include "gvs/eval/speed_gaps.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
 
@@ -40,18 +42,23 @@ void run_replay(const ReplayCliOptions& o) {
   eval::ReplayOptions options;
   options.time_reference_dft = o.timing;
   std::size_t done = 0;
+  std::size_t with_speed = 0;
+  std::vector<drivers::EstimateRow> rows;  // for saying why speeds are missing
   auto progress = std::make_unique<Progress>("gvs replay", dataset.frames().size());
   const eval::ReplayStats stats = eval::replay_dataset(
       dataset, config,
       [&](const core::VelocityEstimate& e) {
         writer.write(e);
+        if (e.has_speed) ++with_speed;
+        if (dataset.has_truth()) rows.push_back({e});
         progress->update(++done);
       },
       options);
   progress.reset();
   writer.close();
-  std::printf("replayed %zu frames with '%s': %zu with an estimate; wrote %s\n", stats.frames,
-              config.estimator.method.c_str(), stats.with_estimate, o.out.c_str());
+  std::printf("replayed %zu frames with '%s': %zu with an estimate, %zu with a speed; wrote %s\n", stats.frames,
+              config.estimator.method.c_str(), stats.with_estimate, with_speed, o.out.c_str());
+  if (dataset.has_truth()) std::printf("%s", eval::format_speed_gaps(eval::find_speed_gaps(dataset, rows)).c_str());
   if (o.timing && stats.frames > 0) {
     const double n = static_cast<double>(stats.frames);
     std::printf("timing per frame: decode PNG %.3f ms, estimator %.3f ms, one forward DFT %.3f ms; "

@@ -12,8 +12,10 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -29,6 +31,7 @@
 #include "gvs/core/geometry.hpp"
 #include "gvs/dsp/spectrum.hpp"
 #include "gvs/dsp/thesis_fft.hpp"
+#include "gvs/eval/speed_gaps.hpp"
 
 namespace gvs::cli {
 
@@ -63,9 +66,31 @@ cv::Mat spectrum_image(const cv::Mat& gray) {
   return out;
 }
 
-/// The frame with the estimate drawn on it and its spectrum beside it.
+/// `text` cut into lines of at most `width` characters at spaces.
+std::vector<std::string> wrap_words(const std::string& text, std::size_t width) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(start, end - start);
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      lines.push_back(line);
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    start = end + 1;
+  }
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+/// The frame with the estimate drawn on it, its spectrum beside it, and
+/// below them the numbers and, without a speed, why (`why_no_speed`).
 void draw_snapshot(const cv::Mat& gray, const core::VelocityEstimate& e, std::int64_t index,
-                   const core::ExposurePlan& exposure, double mount_yaw_deg, const std::string& out_file) {
+                   const core::ExposurePlan& exposure, double mount_yaw_deg, const std::string& why_no_speed,
+                   const std::string& out_file) {
   const dsp::FrameStats stats = dsp::measure_frame(gray);
 
   cv::Mat left;
@@ -86,7 +111,13 @@ void draw_snapshot(const cv::Mat& gray, const core::VelocityEstimate& e, std::in
     cv::line(left, centre - d, centre + d, cv::Scalar(0, 200, 255), 1, cv::LINE_AA);  // blur axis
     cv::arrowedLine(left, centre, centre + d, cv::Scalar(0, 255, 0), 2, cv::LINE_AA, 0, 0.15);
   }
-  cv::Mat canvas(gray.rows + 64, gray.cols * 2, CV_8UC3, cv::Scalar(20, 20, 20));
+  // At 0.4 scale the Hershey font is about 7.5 px a character.
+  const std::string why = why_no_speed.empty() ? std::string() : "no speed: " + why_no_speed;
+  const std::vector<std::string> why_lines =
+      why.empty() ? std::vector<std::string>{} : wrap_words(why, static_cast<std::size_t>(std::max(40, gray.cols * 2 / 8)));
+  constexpr int kLinePx = 20;
+  cv::Mat canvas(gray.rows + 64 + kLinePx * static_cast<int>(why_lines.size()), gray.cols * 2, CV_8UC3,
+                 cv::Scalar(20, 20, 20));
   left.copyTo(canvas(cv::Rect(0, 0, gray.cols, gray.rows)));
   right.copyTo(canvas(cv::Rect(gray.cols, 0, gray.cols, gray.rows)));
   const std::string line1 =
@@ -106,8 +137,13 @@ void draw_snapshot(const cv::Mat& gray, const core::VelocityEstimate& e, std::in
               1, cv::LINE_AA);
   cv::putText(canvas, line2, cv::Point(8, gray.rows + 50), cv::FONT_HERSHEY_SIMPLEX, 0.4,
               cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
+  for (std::size_t i = 0; i < why_lines.size(); ++i) {
+    cv::putText(canvas, why_lines[i], cv::Point(8, gray.rows + 50 + kLinePx * static_cast<int>(i + 1)),
+                cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(120, 200, 255), 1, cv::LINE_AA);
+  }
   if (!cv::imwrite(out_file, canvas)) throw std::runtime_error(out_file + ": cannot be written");
-  std::printf("%s\n%s\nwrote %s\n", line1.c_str(), line2.c_str(), out_file.c_str());
+  std::printf("%s\n%s\n%s%swrote %s\n", line1.c_str(), line2.c_str(), why.c_str(), why.empty() ? "" : "\n",
+              out_file.c_str());
 }
 
 void snapshot_from_dataset(const SnapshotOptions& o) {
@@ -136,7 +172,13 @@ void snapshot_from_dataset(const SnapshotOptions& o) {
     e = processor.process(v);
   }
   const drivers::FrameRecord& rec = dataset.frames()[static_cast<std::size_t>(target)];
-  draw_snapshot(gray, e, rec.index, rec.exposure, dataset.camera().geometry.mount_yaw_deg, o.out);
+  std::optional<drivers::TruthRecord> truth;
+  for (const drivers::TruthRecord& t : dataset.truth()) {
+    if (t.index == rec.index) truth = t;
+  }
+  const core::CameraGeometry& cam = dataset.camera().geometry;
+  draw_snapshot(gray, e, rec.index, rec.exposure, cam.mount_yaw_deg, eval::why_no_speed(e, rec.exposure, cam, truth),
+                o.out);
 }
 
 /// The live source: a few frames (pair methods and the sign need history), the last one drawn.
@@ -163,8 +205,9 @@ void snapshot_live(const SnapshotOptions& o) {
     throw std::runtime_error("no frame from " + live.source->describe() + " (" + std::to_string(errors) +
                              " errors) " + live.source->health_text());
   }
-  draw_snapshot(live.slot.view.gray, e, live.slot.view.index, live.slot.view.exposure,
-                live.source->geometry().mount_yaw_deg, o.out);
+  const core::CameraGeometry& cam = live.source->geometry();
+  draw_snapshot(live.slot.view.gray, e, live.slot.view.index, live.slot.view.exposure, cam.mount_yaw_deg,
+                eval::why_no_speed(e, live.slot.view.exposure, cam, std::nullopt), o.out);
 }
 
 

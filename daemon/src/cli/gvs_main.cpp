@@ -12,6 +12,10 @@ int main(int argc, char** argv) {
                "gvs"};
   app.set_version_flag("--version", gvs::cli::version_text("gvs"), "Print the version and the git commit, then exit");
   app.require_subcommand(1);
+  app.footer(
+      "Each command's options: gvs COMMAND --help.\n"
+      "Exit status: 0 done; 1 the work failed (the message says why); 2 bad command line; 130 gvs sim interrupted.\n"
+      "Documentation: README.md and docs/ in the source, /usr/share/doc/gvs/ in the Debian package; man gvs, man gvsd.");
   gvs::cli::register_sim(app);
   gvs::cli::register_replay(app);
   gvs::cli::register_eval(app);

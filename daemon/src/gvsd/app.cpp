@@ -243,6 +243,13 @@ int gvsd_main(int argc, char** argv) {
       "gvsd"};
   app.set_version_flag("--version", std::string("gvsd ") + GVS_VERSION + " (" + GVS_GIT_COMMIT + ")",
                        "print the version and the git commit, then exit");
+  app.footer(
+      "Signals: SIGTERM or SIGINT stop gvsd; SIGHUP reloads the configuration's reloadable keys.\n"
+      "Exit status: 0 stopped (a signal, --run-for, the end of a replay); 1 configuration or start-up refused (the "
+      "log says why); 2 bad command line.\n"
+      "Files: /etc/gvsd/gvsd.toml, the configuration the Debian package's gvsd.service runs with.\n"
+      "Documentation: docs/daemon.md (configuration, threads), docs/deployment.md (the service on the car); in the "
+      "Debian package under /usr/share/doc/gvs/; man gvs.");
   CommandLine cli;
   app.add_option("--config", cli.config_file, "TOML configuration file (see systemd/gvsd.toml)")
       ->check(CLI::ExistingFile);

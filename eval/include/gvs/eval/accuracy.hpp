@@ -37,6 +37,8 @@ struct BandAccuracy {
   std::size_t speed_off = 0;
 };
 
+/// Truth below this speed is not "moving": direction and % speed errors are not meaningful.
+constexpr double kMovingKmh = 0.5;
 constexpr double kWrongSpeedPct = 5.0;
 constexpr double kWrongSpeedMinKmh = 1.0;
 
