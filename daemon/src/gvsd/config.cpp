@@ -5,6 +5,8 @@
 #include "gvs/daemon/config.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -183,7 +185,15 @@ DaemonConfig parse_config(std::string_view toml_text, const std::string& origin)
 
 DaemonConfig load_config_file(const std::filesystem::path& file) {
   std::ifstream in(file);
-  if (!in) throw ConfigError(file.string() + ": cannot read the configuration file (does it exist?)");
+  if (!in) {
+    // errno of the failed open: say which of the usual causes it is.
+    const int why = errno;
+    std::string cause = "does it exist?";
+    if (why == EACCES) cause = "permission denied: the user gvsd runs as must be able to read it (the service: gvsd)";
+    if (why == ENOENT) cause = "no such file";
+    if (why == EISDIR || std::filesystem::is_directory(file)) cause = "it is a folder, not a file";
+    throw ConfigError(file.string() + ": cannot read the configuration file (" + cause + ")");
+  }
   std::ostringstream text;
   text << in.rdbuf();
   return parse_config(text.str(), file.string());
