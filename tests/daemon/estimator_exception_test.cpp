@@ -115,5 +115,45 @@ TEST(EstimatorException, PipelineKeepsRunningAndCountsTheFailures) {
   EXPECT_GE(valid, 5) << "valid velocity keeps going out after the exceptions";
 }
 
+/// The source's truth with the speed taken out of frames 10..19: a
+/// direction without a speed, as a streak too long to measure gives.
+class DirectionOnlyEstimator final : public FrameEstimator {
+ public:
+  DirectionOnlyEstimator() : inner_(make_frame_estimator("truth", {})) {}
+  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+    core::VelocityEstimate e = inner_->estimate(slot);
+    if (slot.view.index >= 10 && slot.view.index <= 19) {
+      e.has_speed = false;
+      e.method = core::Method::streak_cont;
+    }
+    return e;
+  }
+  void reset() noexcept override {}
+  std::string name() const override { return "direction-only"; }
+
+ private:
+  std::unique_ptr<FrameEstimator> inner_;
+};
+
+TEST(EstimatorFailures, ADirectionWithoutSpeedIsCountedApartFromNoEstimate) {
+  const std::string log = (std::filesystem::temp_directory_path() /
+                           ("gvsd_direction_only_" + std::to_string(getpid()) + ".log")).string();
+  Pipeline p(testing::unprivileged_config(), std::make_unique<testing::SteadyCamera>(),
+             std::make_unique<DirectionOnlyEstimator>(), can::open_sink("candump:" + log));
+  p.start();
+  const std::int64_t t0 = mono_now_ns();
+  while (p.latest().estimate.index < 30 && mono_now_ns() - t0 < 10 * kNsPerS) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  p.request_stop();
+  p.join();
+  std::filesystem::remove(log);
+  ASSERT_GE(p.latest().estimate.index, 30);
+  // The processing thread may skip frames (it takes the newest), not all ten.
+  EXPECT_GE(p.counters().direction_only.load(), 1u);
+  EXPECT_LE(p.counters().direction_only.load(), 10u);
+  EXPECT_EQ(p.counters().estimator_failures.load(), 0u) << "every frame had an estimate";
+}
+
 }  // namespace
 }  // namespace gvs::daemon

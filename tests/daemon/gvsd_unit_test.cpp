@@ -410,6 +410,7 @@ TEST(Health, LineCarriesTheCounters) {
   now.late_wakeups = 4;
   now.send_errors = 1;
   now.estimator_failures = 7;
+  now.direction_only = 11;
   now.frames_rejected = 5;
   now.frames_dropped = 3;
   now.implausible_estimates = 2;
@@ -420,7 +421,8 @@ TEST(Health, LineCarriesTheCounters) {
   EXPECT_NE(line.find("dropped 3"), std::string::npos) << line;
   EXPECT_NE(line.find("late wake-ups 4"), std::string::npos) << line;
   EXPECT_NE(line.find("send errors 1"), std::string::npos) << line;
-  EXPECT_NE(line.find("estimator failures 7"), std::string::npos) << line;
+  EXPECT_NE(line.find("no estimate 7"), std::string::npos) << line;
+  EXPECT_NE(line.find("direction only 11"), std::string::npos) << line;
   EXPECT_NE(line.find("rejected 5 (+5),"), std::string::npos) << "no reason counted, none listed: " << line;
   EXPECT_NE(line.find("implausible 2 (+2)"), std::string::npos) << line;
   EXPECT_NE(line.find("no estimate yet"), std::string::npos) << line;

@@ -40,7 +40,7 @@ void Pipeline::processing_loop() noexcept {
     core::VelocityEstimate e = estimator_->estimate(*slot);
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
     const std::int64_t t1 = mono_now_ns();
-    if (!e.has_speed) bump(counters_.estimator_failures);
+    if (!e.has_speed) bump(e.has_direction ? counters_.direction_only : counters_.estimator_failures);
     const dsp::RejectCounts rejected = estimator_->rejected_frames();
     std::uint64_t rejected_total = 0;
     for (std::size_t i = 0; i < dsp::kRejectReasonCount; ++i) {

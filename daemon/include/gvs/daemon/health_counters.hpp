@@ -66,8 +66,10 @@ enum class HealthShow : std::uint8_t {
     "older frames passed over for the newest")                                                                    \
   X(frames_rejected, std::uint64_t, processing, processing, delta_by_reason, "rejected {v}", "frames",            \
     "bad input frames (unreadable, wrong size or exposure, time backwards)")                                      \
-  X(estimator_failures, std::uint64_t, processing, processing, delta, "estimator failures {v}", "frames",          \
-    "frames without a speed estimate")                                                                            \
+  X(estimator_failures, std::uint64_t, processing, processing, delta, "no estimate {v}", "frames",                 \
+    "frames that gave neither a speed nor a direction (rejected input included)")                                 \
+  X(direction_only, std::uint64_t, processing, processing, delta, "direction only {v}", "frames",                  \
+    "frames that gave a direction but no speed (e.g. a streak longer than the frame measures)")                   \
   X(implausible_estimates, std::uint64_t, processing, processing, delta, "implausible {v}", "estimates",           \
     "held back by the plausibility gate")                                                                         \
   X(processing_max_ns, std::int64_t, processing, processing, value, "max {ms:.2f} ms", "ns",                       \
