@@ -5,11 +5,16 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <thread>
+
+#include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
 #include "gvs/daemon/health.hpp"
+#include "gvs/daemon/logging.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/daemon/seqlock.hpp"
 #include "gvs/daemon/spsc_ring.hpp"
@@ -400,6 +405,26 @@ TEST(Watchdog, FedOnlyWhileEveryThreadProgresses) {
     p.beats[hung] += 1;
     EXPECT_TRUE(gate.should_feed(p)) << role_name(static_cast<ThreadRole>(hung)) << " recovered";
   }
+}
+
+TEST(Logging, AnOpenCvExceptionReadsAsOneLineAndOpenCvsOwnLogIsOff) {
+  try {
+    cv::Mat a(4, 4, CV_8UC1, cv::Scalar(1)), b(3, 3, CV_8UC1, cv::Scalar(1)), sum;
+    cv::add(a, b, sum);  // sizes differ
+    FAIL() << "cv::add did not throw";
+  } catch (const cv::Exception& e) {
+    const std::string raw = e.what();
+    const std::string line = describe_exception(e);
+    EXPECT_NE(raw.find(".cpp"), std::string::npos) << "OpenCV's text names its source file: " << raw;
+    EXPECT_EQ(line.rfind("OpenCV: ", 0), 0u) << line;
+    EXPECT_EQ(line.find(".cpp"), std::string::npos) << line;
+    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+    EXPECT_NE(line.find("(in "), std::string::npos) << "the function that failed: " << line;
+  }
+  EXPECT_EQ(describe_exception(std::runtime_error("plain")), "plain");
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_WARNING);
+  silence_library_logs();
+  EXPECT_EQ(cv::utils::logging::getLogLevel(), cv::utils::logging::LOG_LEVEL_SILENT);
 }
 
 TEST(Health, LineCarriesTheCounters) {

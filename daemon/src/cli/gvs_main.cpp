@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "gvs/daemon/logging.hpp"
 #include "usage.hpp"
 
 int main(int argc, char** argv) {
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   gvs::cli::register_snapshot(app);
   gvs::cli::register_record(app);
   if (!gvs::cli::check_subcommands(app, argc, argv)) return gvs::cli::kUsageExitCode;
+  gvs::daemon::silence_library_logs();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -31,7 +33,7 @@ int main(int argc, char** argv) {
   } catch (const gvs::cli::Interrupted&) {
     return 130;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gvs: error: %s\n", e.what());
+    std::fprintf(stderr, "gvs: error: %s\n", gvs::daemon::describe_exception(e).c_str());
     return 1;
   }
   return 0;

@@ -126,7 +126,7 @@ int run(const CommandLine& cli) {
     try {
       (void)check_startup(config);
     } catch (const std::exception& e) {
-      spdlog::critical("start-up: {}", e.what());
+      spdlog::critical("start-up: {}", describe_exception(e));
       return 1;
     }
     // stdout, not the log: `gvsd --check-config` is run by hand or by a
@@ -169,7 +169,7 @@ int run(const CommandLine& cli) {
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     pipeline->start();
   } catch (const std::exception& e) {
-    spdlog::critical("start-up: {}", e.what());
+    spdlog::critical("start-up: {}", describe_exception(e));
     return 1;
   }
   report_realtime(*pipeline, config, config.lock_memory ? mlock_errno : 0);

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <string_view>
 
+#include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/sinks/stdout_sinks.h>
@@ -73,7 +75,22 @@ std::shared_ptr<spdlog::logger> setup_logging(const std::string& level, bool jou
   logger->set_level(spdlog::level::from_str(level));
   logger->flush_on(spdlog::level::trace);
   spdlog::set_default_logger(logger);
+  silence_library_logs();
   return logger;
+}
+
+void silence_library_logs() { cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT); }
+
+std::string describe_exception(const std::exception& e) {
+  if (const auto* cv_error = dynamic_cast<const cv::Exception*>(&e)) {
+    std::string text = "OpenCV: " + cv_error->err;
+    if (!cv_error->func.empty()) text += " (in " + cv_error->func + ")";
+    for (char& c : text) {
+      if (c == '\n') c = ' ';
+    }
+    return text;
+  }
+  return e.what();
 }
 
 }  // namespace gvs::daemon
