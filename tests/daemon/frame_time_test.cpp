@@ -38,7 +38,7 @@ TEST(FrameTime, FrameChecksStampTheRoundedMidExposure) {
   config.estimator.method = "gvs";
   dsp::FrameProcessor p(config);
   EXPECT_EQ(p.process(s.view).t_ns, want) << "wrong-size (no pixels)";
-  EXPECT_EQ(p.reject(s.view, dsp::RejectReason::unreadable).t_ns, want);
+  EXPECT_EQ(p.reject(s.view, core::RejectReason::unreadable).t_ns, want);
 }
 
 }  // namespace

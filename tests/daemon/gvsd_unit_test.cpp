@@ -435,9 +435,9 @@ TEST(Health, LineCarriesTheCounters) {
 TEST(Health, LineNamesEachRejectReason) {
   HealthSnapshot prev;
   HealthSnapshot now;
-  prev.frames_rejected_by[static_cast<std::size_t>(dsp::RejectReason::unreadable)] = 1;
-  now.frames_rejected_by[static_cast<std::size_t>(dsp::RejectReason::unreadable)] = 2;
-  now.frames_rejected_by[static_cast<std::size_t>(dsp::RejectReason::no_light_in_exposure)] = 4;
+  prev.frames_rejected_by[static_cast<std::size_t>(core::RejectReason::unreadable)] = 1;
+  now.frames_rejected_by[static_cast<std::size_t>(core::RejectReason::unreadable)] = 2;
+  now.frames_rejected_by[static_cast<std::size_t>(core::RejectReason::no_light_in_exposure)] = 4;
   prev.frames_rejected = 1;
   now.frames_rejected = 6;
   const std::string line = format_health_line(now, prev, PublishedEstimate{}, 0, 5.0);

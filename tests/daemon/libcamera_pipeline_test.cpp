@@ -23,7 +23,7 @@ class ConstantEstimator final : public FrameEstimator {
  public:
   core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
     const std::int64_t mid_ns = core::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
-    if (slot.defect) return core::no_estimate(slot.view.index, mid_ns, dsp::reject_method(*slot.defect));
+    if (slot.defect) return core::no_estimate(slot.view.index, mid_ns, core::reject_method(*slot.defect));
     core::VelocityEstimate e;
     e.index = slot.view.index;
     e.t_ns = mid_ns;

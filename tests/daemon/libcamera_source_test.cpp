@@ -210,7 +210,7 @@ TEST(LibcameraSource, BackwardsTimestampIsCountedAndTheFrameGetsNoEstimate) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect == dsp::RejectReason::time_backwards;
+    seen = rig.slot.defect == core::RejectReason::time_backwards;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().timestamps_backwards, 1u);
@@ -225,7 +225,7 @@ TEST(LibcameraSource, MissingExposureMetadataIsNeverGuessed) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect == dsp::RejectReason::no_exposure_metadata;
+    seen = rig.slot.defect == core::RejectReason::no_exposure_metadata;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().no_exposure_metadata, 1u);

@@ -106,7 +106,7 @@ void Pipeline::stamp_light(FrameSlot& slot) noexcept {
   if (drivers::light_in_exposure(history, slot.view.t_ns, slot.view.exposure.exposure_us, lit)) {
     slot.view.exposure = lit;
   } else if (!slot.defect) {
-    slot.defect = dsp::RejectReason::no_light_in_exposure;
+    slot.defect = core::RejectReason::no_light_in_exposure;
   }
 }
 

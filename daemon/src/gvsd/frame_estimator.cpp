@@ -21,7 +21,7 @@ class DspEstimator final : public FrameEstimator {
     return processor_.process(slot.view);
   }
   void reset() noexcept override { processor_.reset(); }
-  [[nodiscard]] dsp::RejectCounts rejected_frames() const noexcept override { return processor_.rejects().by_reason; }
+  [[nodiscard]] core::RejectCounts rejected_frames() const noexcept override { return processor_.rejects().by_reason; }
   [[nodiscard]] std::string name() const override { return processor_.config().estimator.method; }
 
  private:

@@ -171,11 +171,11 @@ void LibcameraSource::request_completed(const drivers::CompletedRequest& done) n
     h->defect.reset();
     if (done.exposure_us <= 0) {
       bump(counters_.no_exposure_metadata);
-      h->defect = dsp::RejectReason::no_exposure_metadata;  // never guess the exposure the speed is measured with
+      h->defect = core::RejectReason::no_exposure_metadata;  // never guess the exposure the speed is measured with
     }
     if (done.sensor_timestamp_ns <= last_t_ns_ || done.sensor_timestamp_ns < 0) {
       bump(counters_.timestamps_backwards);
-      h->defect = dsp::RejectReason::time_backwards;
+      h->defect = core::RejectReason::time_backwards;
     } else {
       last_t_ns_ = done.sensor_timestamp_ns;
     }

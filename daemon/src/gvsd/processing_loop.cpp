@@ -41,9 +41,9 @@ void Pipeline::processing_loop() noexcept {
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
     const std::int64_t t1 = mono_now_ns();
     if (!e.has_speed) bump(counters_.estimator_failures);
-    const dsp::RejectCounts rejected = estimator_->rejected_frames();
+    const core::RejectCounts rejected = estimator_->rejected_frames();
     std::uint64_t rejected_total = 0;
-    for (std::size_t i = 0; i < dsp::kRejectReasonCount; ++i) {
+    for (std::size_t i = 0; i < core::kRejectReasonCount; ++i) {
       counters_.frames_rejected_by[i].store(rejected[i], std::memory_order_relaxed);
       rejected_total += rejected[i];
     }

@@ -58,13 +58,13 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_l
         gray = reader.load_gray(i);
       } catch (const drivers::DatasetError& e) {
         spdlog::warn("replay: frame {} gets no estimate: {}", records_[i].index, e.what());
-        defects_[i] = dsp::RejectReason::unreadable;
+        defects_[i] = core::RejectReason::unreadable;
       }
       if (!defects_[i] && (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px)) {
         spdlog::warn("replay: frame {} gets no estimate: {} is {}x{} px but camera.json says {}x{}",
                      records_[i].index, records_[i].file, gray.cols, gray.rows, geometry_.width_px,
                      geometry_.height_px);
-        defects_[i] = dsp::RejectReason::wrong_size;
+        defects_[i] = core::RejectReason::wrong_size;
         gray.release();
       }
       if (!defects_[i]) ++good;

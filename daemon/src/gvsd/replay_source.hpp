@@ -38,7 +38,7 @@ class ReplaySource final : public FrameSource {
   core::CameraGeometry geometry_;
   std::vector<drivers::FrameRecord> records_;
   std::vector<cv::Mat> frames_;
-  std::vector<std::optional<dsp::RejectReason>> defects_;  ///< per frame: none, unreadable or wrong_size
+  std::vector<std::optional<core::RejectReason>> defects_;  ///< per frame: none, unreadable or wrong_size
   std::vector<FrameTruth> truth_;
   double fps_ = 0.0;
   std::size_t next_ = 0;

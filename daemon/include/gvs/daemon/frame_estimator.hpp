@@ -27,7 +27,7 @@ class FrameEstimator {
   core::VelocityEstimate estimate(const FrameSlot& slot) noexcept;
   virtual void reset() noexcept = 0;
   /// Bad input frames so far, per reason (dsp::FrameRejectCounters::by_reason).
-  [[nodiscard]] virtual dsp::RejectCounts rejected_frames() const noexcept { return {}; }
+  [[nodiscard]] virtual core::RejectCounts rejected_frames() const noexcept { return {}; }
   /// Frames whose estimation threw (caught by estimate()).
   [[nodiscard]] std::uint64_t estimator_exceptions() const noexcept { return exceptions_; }
   [[nodiscard]] virtual std::string name() const = 0;

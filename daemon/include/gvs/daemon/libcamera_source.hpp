@@ -103,7 +103,7 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
     std::int64_t t_ns = 0;
     double exposure_us = 0.0;
     double analogue_gain = 0.0;
-    std::optional<dsp::RejectReason> defect;
+    std::optional<core::RejectReason> defect;
   };
 
   // camera library's thread
