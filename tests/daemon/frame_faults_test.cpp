@@ -204,7 +204,7 @@ TEST_F(FrameFaults, EachSourceDefectIsCountedUnderItsOwnReason) {
 // counts as no-light-in-exposure, not as unreadable.
 TEST_F(FrameFaults, FrameEstimatorCountsSlotDefectsPerReason) {
   const std::unique_ptr<FrameEstimator> est = make_frame_estimator("gvs", config_.estimator.camera);
-  FrameSlot slot;
+  drivers::FrameSlot slot;
   slot.view = good_[0];
   slot.defect = core::RejectReason::no_light_in_exposure;
   EXPECT_EQ(est->estimate(slot).method, core::Method::no_light_in_exposure);

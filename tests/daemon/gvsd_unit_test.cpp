@@ -12,7 +12,7 @@
 #include "gvs/daemon/health.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/daemon/seqlock.hpp"
-#include "gvs/daemon/spsc_ring.hpp"
+#include "gvs/drivers/spsc_ring.hpp"
 
 namespace gvs::daemon {
 namespace {
@@ -23,7 +23,7 @@ struct Item {
 };
 
 TEST(SpscRing, FullRingRefusesAndNewestSkipsOlder) {
-  SpscRing<int> ring(std::vector<int>(3, 0));
+  drivers::SpscRing<int> ring(std::vector<int>(3, 0));
   for (int i = 1; i <= 3; ++i) {
     int* slot = ring.try_claim();
     ASSERT_NE(slot, nullptr);
@@ -47,16 +47,16 @@ TEST(SpscRing, FullRingRefusesAndNewestSkipsOlder) {
 }
 
 TEST(SpscRing, EmptyRingGivesNothing) {
-  SpscRing<int> ring(std::vector<int>(2, 0));
+  drivers::SpscRing<int> ring(std::vector<int>(2, 0));
   std::uint64_t skipped = 99;
   EXPECT_EQ(ring.take_newest(skipped), nullptr);
   EXPECT_EQ(skipped, 0u);
   EXPECT_EQ(ring.take_oldest(), nullptr);
-  EXPECT_THROW(SpscRing<int>(std::vector<int>(1, 0)), std::invalid_argument);
+  EXPECT_THROW(drivers::SpscRing<int>(std::vector<int>(1, 0)), std::invalid_argument);
 }
 
 TEST(SpscRing, FifoOrderWithTakeOldest) {
-  SpscRing<int> ring(std::vector<int>(4, 0));
+  drivers::SpscRing<int> ring(std::vector<int>(4, 0));
   for (int i = 0; i < 3; ++i) {
     int* slot = ring.try_claim();
     ASSERT_NE(slot, nullptr);
@@ -76,7 +76,7 @@ TEST(SpscRing, FifoOrderWithTakeOldest) {
 // (payload matches its sequence number), sequences only increase, and
 // published = consumed + skipped.
 TEST(SpscRing, TwoThreadsNeverTearAndAccountForEveryItem) {
-  SpscRing<Item> ring(std::vector<Item>(4));
+  drivers::SpscRing<Item> ring(std::vector<Item>(4));
   constexpr std::uint64_t kItems = 200000;
   std::atomic<bool> done{false};
   std::uint64_t refused = 0;

@@ -1,7 +1,7 @@
 // The seam at libcamera's interface: what gvsd's camera source needs of a
 // camera and nothing more. One implementation drives libcamera 0.0.3
 // (make_libcamera_device, built when libcamera is found); the tests drive a
-// fake with the same behaviour (tests/daemon/fake_camera_device.hpp).
+// fake with the same behaviour (tests/drivers/fake_camera_device.hpp).
 #pragma once
 
 #include <cstddef>

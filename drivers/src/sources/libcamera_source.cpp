@@ -1,5 +1,5 @@
-// `libcamera[:ID]`: see gvs/daemon/libcamera_source.hpp for the threads.
-#include "gvs/daemon/libcamera_source.hpp"
+// `libcamera[:ID]`: see gvs/drivers/libcamera_source.hpp for the threads.
+#include "gvs/drivers/libcamera_source.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -8,14 +8,18 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "gvs/daemon/clock.hpp"
-#include "gvs/daemon/health_counters.hpp"
+#include "gvs/drivers/clock.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 namespace {
 
-std::uint64_t pack(const drivers::CameraControls& c) {
+/// Counters have one writing thread each: no read-modify-write needed.
+void bump(std::atomic<std::uint64_t>& c, std::uint64_t by = 1) noexcept {
+  c.store(c.load(std::memory_order_relaxed) + by, std::memory_order_relaxed);
+}
+
+std::uint64_t pack(const CameraControls& c) {
   return static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.exposure_us)) |
          (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(c.analogue_gain)) << 32U);
 }
@@ -37,24 +41,24 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
                            ". Set [source] uri = \"libcamera:<one of them>\", or \"libcamera\" for the first");
 }
 
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s) {
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s) {
   return camera_controls_for(plan, s, s.exposure_max_us);
 }
 
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
                                             double exposure_max_us) {
   const double period_us = 1e6 / s.fps;
   const double longest_us = std::max(s.exposure_min_us, std::min(exposure_max_us, 0.9 * period_us));
   const double exposure_us = std::clamp(plan.exposure_us, s.exposure_min_us, longest_us);
   const double gain = std::clamp(s.gain_min * exposure_max_us / exposure_us, s.gain_min, s.gain_max);
-  drivers::CameraControls c;
+  CameraControls c;
   c.exposure_us = static_cast<std::int32_t>(std::lround(exposure_us));
   c.analogue_gain = static_cast<float>(gain);
   c.frame_duration_us = std::llround(period_us);
   return c;
 }
 
-LibcameraSource::LibcameraSource(std::unique_ptr<drivers::CameraDevice> device, const LibcameraSettings& settings)
+LibcameraSource::LibcameraSource(std::unique_ptr<CameraDevice> device, const LibcameraSettings& settings)
     : device_(std::move(device)),
       settings_(settings),
       handoff_(std::vector<Handoff>(static_cast<std::size_t>(std::max(2, settings.buffer_count)))) {
@@ -79,12 +83,12 @@ LibcameraSource::~LibcameraSource() {
 
 void LibcameraSource::open_and_start() {
   device_->open(camera_id_);
-  drivers::CameraStreamRequest want;
+  CameraStreamRequest want;
   want.width_px = settings_.camera.width_px;
   want.height_px = settings_.camera.height_px;
   want.pixel_format = settings_.pixel_format;
   want.buffer_count = settings_.buffer_count;
-  const drivers::CameraStreamInfo got = device_->configure(want);
+  const CameraStreamInfo got = device_->configure(want);
   if (got.width_px != want.width_px || got.height_px != want.height_px ||
       got.stride_bytes < static_cast<std::size_t>(want.width_px)) {
     device_->close();
@@ -102,7 +106,7 @@ void LibcameraSource::open_and_start() {
 std::string LibcameraSource::describe() const {
   std::ostringstream s;
   s << "libcamera:" << camera_id_ << " (" << device_->describe() << ", " << settings_.camera.width_px << 'x'
-    << settings_.camera.height_px << ' ' << drivers::camera_pixel_format_name(settings_.pixel_format) << ", "
+    << settings_.camera.height_px << ' ' << camera_pixel_format_name(settings_.pixel_format) << ", "
     << settings_.fps << " fps, manual exposure)";
   return s.str();
 }
@@ -112,9 +116,9 @@ void LibcameraSource::prepare(FrameSlot& slot) {
   slot.view.gray.setTo(0);
 }
 
-drivers::CameraControls LibcameraSource::current_controls() const noexcept {
+CameraControls LibcameraSource::current_controls() const noexcept {
   const std::uint64_t p = controls_packed_.load(std::memory_order_acquire);
-  drivers::CameraControls c;
+  CameraControls c;
   c.exposure_us = static_cast<std::int32_t>(static_cast<std::uint32_t>(p & 0xFFFFFFFFU));
   c.analogue_gain = std::bit_cast<float>(static_cast<std::uint32_t>(p >> 32U));
   c.frame_duration_us = std::llround(1e6 / settings_.fps);
@@ -137,7 +141,7 @@ void LibcameraSource::apply_exposure(double exposure_max_us) noexcept {
 
 // ---- camera library's thread: copy, hand over, re-queue; nothing else ----
 
-void LibcameraSource::request_completed(const drivers::CompletedRequest& done) noexcept {
+void LibcameraSource::request_completed(const CompletedRequest& done) noexcept {
   if (done.cancelled) {
     bump(counters_.requests_cancelled);
     return;  // the camera is stopping: the request is not queued again
@@ -297,4 +301,4 @@ std::string LibcameraSource::health_text() const {
   return s.str();
 }
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

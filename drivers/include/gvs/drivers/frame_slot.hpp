@@ -7,7 +7,7 @@
 #include "gvs/core/reject_reason.hpp"
 #include "gvs/core/frame.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 /// Ground truth carried along with a frame by sources that know it (the
 /// simulator; replay of a dataset with truth.csv). Vehicle axes, sensor point.
@@ -33,4 +33,4 @@ struct FrameSlot {
   std::optional<core::RejectReason> defect;
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

@@ -1,6 +1,6 @@
-// The libcamera source on the fake camera (tests/daemon/fake_camera_device.hpp):
+// The libcamera source on the fake camera (tests/drivers/fake_camera_device.hpp):
 // camera choice, controls, metadata handling, counters, disappearance and
-// recovery; and its [libcamera] configuration.
+// recovery.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -8,11 +8,10 @@
 #include <thread>
 
 #include "fake_camera_device.hpp"
-#include "gvs/daemon/clock.hpp"
-#include "gvs/daemon/config.hpp"
-#include "gvs/daemon/libcamera_source.hpp"
+#include "gvs/drivers/clock.hpp"
+#include "gvs/drivers/libcamera_source.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 namespace {
 
 using testing::FakeCamera;
@@ -82,13 +81,13 @@ TEST(LibcameraSource, NoCameraSaysWhatToCheck) {
 TEST(LibcameraSource, OpensTheCameraByIdWithTheConfiguredStream) {
   LibcameraSettings s = small_settings();
   s.camera_id = "/base/fake/imx296@1a";
-  s.pixel_format = drivers::CameraPixelFormat::r8;
+  s.pixel_format = CameraPixelFormat::r8;
   Rig rig(s);
   EXPECT_EQ(rig.source->camera_id(), s.camera_id);
   EXPECT_EQ(rig.cam->opens.load(), 1);
   EXPECT_EQ(rig.cam->last_request.width_px, 64);
   EXPECT_EQ(rig.cam->last_request.height_px, 48);
-  EXPECT_EQ(rig.cam->last_request.pixel_format, drivers::CameraPixelFormat::r8);
+  EXPECT_EQ(rig.cam->last_request.pixel_format, CameraPixelFormat::r8);
   EXPECT_EQ(rig.cam->last_request.buffer_count, 3);
   EXPECT_NE(rig.source->describe().find("libcamera:/base/fake/imx296@1a"), std::string::npos);
 }
@@ -101,7 +100,7 @@ TEST(LibcameraSource, ExposurePlanBecomesClampedManualControls) {
   s.gain_max = 8.0;
   core::ExposurePlan plan;
   plan.exposure_us = 1500.0;
-  drivers::CameraControls c = camera_controls_for(plan, s);
+  CameraControls c = camera_controls_for(plan, s);
   EXPECT_EQ(c.exposure_us, 1500);
   EXPECT_FLOAT_EQ(c.analogue_gain, 2.0F) << "gain makes up for half the exposure";
   EXPECT_EQ(c.frame_duration_us, 20000) << "FrameDurationLimits from 50 fps";
@@ -291,26 +290,5 @@ TEST(LibcameraSource, SilentCameraIsRestarted) {
   EXPECT_GE(rig.source->health().frame_timeouts, 3u);
 }
 
-TEST(LibcameraConfig, ReadsTheLibcameraSectionAndChecksIt) {
-  const DaemonConfig c = parse_config(
-      "[libcamera]\nfps = 120\npixel_format = \"R8\"\nbuffer_count = 6\nexposure_min_us = 20\n"
-      "gain_min = 1.5\ngain_max = 4\nstall_periods = 2\nretry_interval_ms = 250\n",
-      "t.toml");
-  EXPECT_DOUBLE_EQ(c.libcamera_fps, 120.0);
-  EXPECT_EQ(c.libcamera_pixel_format, "R8");
-  EXPECT_EQ(c.libcamera_buffer_count, 6);
-  const LibcameraSettings s = libcamera_settings(c, "cam1");
-  EXPECT_EQ(s.camera_id, "cam1");
-  EXPECT_EQ(s.pixel_format, drivers::CameraPixelFormat::r8);
-  const DaemonConfig defaults;  // a named object: GCC 12 misreads a temporary's strings as uninitialised
-  EXPECT_EQ(libcamera_settings(defaults, "").pixel_format, drivers::CameraPixelFormat::yuv420) << "default";
-  EXPECT_DOUBLE_EQ(s.gain_min, 1.5);
-  EXPECT_DOUBLE_EQ(s.exposure_max_us, c.exposure_max_us);
-  EXPECT_DOUBLE_EQ(s.retry_interval_ms, 250.0);
-  EXPECT_THROW((void)parse_config("[libcamera]\npixel_format = \"RGB888\"\n", "t.toml"), ConfigError);
-  EXPECT_THROW((void)parse_config("[libcamera]\ngain_min = 4\ngain_max = 2\n", "t.toml"), ConfigError);
-  EXPECT_THROW((void)parse_config("[libcamera]\nexposure = 2\n", "t.toml"), ConfigError);
-}
-
 }  // namespace
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

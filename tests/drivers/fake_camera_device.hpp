@@ -17,10 +17,10 @@
 #include <thread>
 #include <vector>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/drivers/camera_device.hpp"
 
-namespace gvs::daemon::testing {
+namespace gvs::drivers::testing {
 
 /// The camera's world, shared by the test and the device.
 struct FakeCamera {
@@ -44,10 +44,10 @@ struct FakeCamera {
   std::atomic<std::uint64_t> queued{0};  ///< requests queued (first queue and re-queues)
   std::mutex seen_mutex;
   std::map<std::uint32_t, int> queue_count_by_buffer;
-  drivers::CameraControls last_controls;
-  drivers::CameraStreamRequest last_request;
+  CameraControls last_controls;
+  CameraStreamRequest last_request;
 
-  drivers::CameraControls seen_controls() {
+  CameraControls seen_controls() {
     const std::lock_guard<std::mutex> lock(seen_mutex);
     return last_controls;
   }
@@ -60,7 +60,7 @@ struct FakeCamera {
   }
 };
 
-class FakeCameraDevice final : public drivers::CameraDevice {
+class FakeCameraDevice final : public CameraDevice {
  public:
   explicit FakeCameraDevice(std::shared_ptr<FakeCamera> world) : w_(std::move(world)) {}
   ~FakeCameraDevice() override { close(); }
@@ -76,7 +76,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
     ++w_->opens;
     open_ = true;
   }
-  drivers::CameraStreamInfo configure(const drivers::CameraStreamRequest& r) override {
+  CameraStreamInfo configure(const CameraStreamRequest& r) override {
     if (!open_) throw std::runtime_error("fake: configure before open");
     request_ = r;
     {
@@ -88,7 +88,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
                     std::vector<std::uint8_t>(stride_ * static_cast<std::size_t>(r.height_px), 0xEE));
     return {r.width_px, r.height_px, stride_, r.buffer_count};
   }
-  void start(const drivers::CameraControls& controls, drivers::CameraEvents& events) override {
+  void start(const CameraControls& controls, CameraEvents& events) override {
     if (!w_->present.load()) throw std::runtime_error("fake: camera gone");
     events_ = &events;
     stopping_.store(false);
@@ -97,7 +97,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
     ++w_->starts;
     thread_ = std::thread([this] { run(); });
   }
-  bool queue(std::uint32_t index, const drivers::CameraControls& controls) noexcept override {
+  bool queue(std::uint32_t index, const CameraControls& controls) noexcept override {
     if (stopping_.load() || !w_->present.load()) return false;
     {
       const std::lock_guard<std::mutex> lock(mutex_);
@@ -118,7 +118,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
       left.swap(pending_);
     }
     for (const Pending& p : left) {  // as libcamera: pending requests complete cancelled
-      drivers::CompletedRequest done;
+      CompletedRequest done;
       done.buffer_index = p.index;
       done.cancelled = true;
       if (events_ != nullptr) events_->request_completed(done);
@@ -133,7 +133,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
  private:
   struct Pending {
     std::uint32_t index;
-    drivers::CameraControls controls;
+    CameraControls controls;
   };
 
   void run() {
@@ -169,7 +169,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
               static_cast<std::uint8_t>((x + 3 * y + static_cast<int>(sequence)) & 0x7F);
         }
       }
-      drivers::CompletedRequest done;
+      CompletedRequest done;
       done.buffer_index = p.index;
       done.sequence = sequence++;
       const std::int32_t applied = FakeCamera::applied_exposure_us(p.controls.exposure_us);
@@ -189,14 +189,14 @@ class FakeCameraDevice final : public drivers::CameraDevice {
 
   std::shared_ptr<FakeCamera> w_;
   bool open_ = false;
-  drivers::CameraStreamRequest request_;
+  CameraStreamRequest request_;
   std::size_t stride_ = 0;
   std::vector<std::vector<std::uint8_t>> buffers_;
-  drivers::CameraEvents* events_ = nullptr;
+  CameraEvents* events_ = nullptr;
   std::mutex mutex_;
   std::deque<Pending> pending_;
   std::atomic<bool> stopping_{false};
   std::thread thread_;
 };
 
-}  // namespace gvs::daemon::testing
+}  // namespace gvs::drivers::testing

@@ -16,19 +16,19 @@
 #include <thread>
 #include <vector>
 
-#include "gvs/daemon/frame_source.hpp"
-#include "gvs/daemon/spsc_ring.hpp"
-#include "gvs/daemon/wakeup.hpp"
+#include "gvs/drivers/frame_source.hpp"
+#include "gvs/drivers/spsc_ring.hpp"
+#include "gvs/drivers/wakeup.hpp"
 #include "gvs/drivers/camera_device.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
-/// The source's settings ([camera], [exposure] and [libcamera] of gvsd.toml).
+/// The source's settings (gvsd: [camera], [exposure] and [libcamera] of gvsd.toml).
 struct LibcameraSettings {
   std::string camera_id;  ///< empty: the first camera the library lists
   core::CameraGeometry camera;
   double fps = 60.0;
-  drivers::CameraPixelFormat pixel_format = drivers::CameraPixelFormat::yuv420;
+  CameraPixelFormat pixel_format = CameraPixelFormat::yuv420;
   int buffer_count = 4;
   double exposure_initial_us = 3000.0;
   double exposure_min_us = 10.0;    ///< shortest ExposureTime sent
@@ -39,10 +39,6 @@ struct LibcameraSettings {
   double retry_interval_ms = 500.0; ///< re-open backoff; also how long a silent camera may stall before a restart
 };
 
-struct DaemonConfig;
-/// The settings from gvsd's configuration; `camera_id` from the source URI.
-LibcameraSettings libcamera_settings(const DaemonConfig& config, const std::string& camera_id);
-
 /// Picks the camera: `wanted` empty = the first of `ids`. Throws
 /// std::runtime_error naming the cameras present and what to do.
 std::string choose_camera(const std::vector<std::string>& ids, const std::string& wanted);
@@ -52,9 +48,9 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
 /// makes up for the shorter exposure (gain_min * exposure_max_us / exposure,
 /// the image brightness stays put) within [gain_min, gain_max];
 /// FrameDurationLimits fixed at 1/fps.
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s);
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s);
 /// The same with `exposure_max_us` in place of s.exposure_max_us (a reloaded value).
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
                                             double exposure_max_us);
 
 /// The source's counters (each written by one thread).
@@ -73,11 +69,11 @@ struct CameraHealth {
   bool streaming = false;
 };
 
-class LibcameraSource final : public FrameSource, private drivers::CameraEvents {
+class LibcameraSource final : public FrameSource, private CameraEvents {
  public:
   /// Chooses, opens, configures and starts the camera. Throws
   /// std::runtime_error (no camera, unknown id, mode not available).
-  LibcameraSource(std::unique_ptr<drivers::CameraDevice> device, const LibcameraSettings& settings);
+  LibcameraSource(std::unique_ptr<CameraDevice> device, const LibcameraSettings& settings);
   ~LibcameraSource() override;
 
   [[nodiscard]] std::string describe() const override;
@@ -107,15 +103,15 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   };
 
   // camera library's thread
-  void request_completed(const drivers::CompletedRequest& done) noexcept override;
+  void request_completed(const CompletedRequest& done) noexcept override;
   void camera_disconnected() noexcept override;
-  drivers::CameraControls current_controls() const noexcept;
+  CameraControls current_controls() const noexcept;
   void apply_exposure(double exposure_max_us) noexcept;  // capture thread
 
   void open_and_start();  // throws
   void supervise() noexcept;
 
-  std::unique_ptr<drivers::CameraDevice> device_;
+  std::unique_ptr<CameraDevice> device_;
   LibcameraSettings settings_;
   std::string camera_id_;
   std::int64_t period_ns_ = 0;
@@ -155,4 +151,4 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   std::thread supervisor_;
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers
