@@ -231,9 +231,10 @@ TEST(NoAllocation, DaemonPathsOver1000Frames) {
   count_allocations("truth", "replay:" + make_replay_dataset(128, 1100), 128, 1000);
 }
 
-// The libcamera source's capture path (hand-off -> ring) on the fake camera
-// at 200 fps: the capture thread's next() copies, never allocates. (The
-// camera's own thread is not an RT thread of gvsd and is not counted.)
+// The libcamera source's capture path (camera buffer -> ring slot) on the
+// fake camera at 200 fps: the capture thread's next() copies, never
+// allocates. (The camera's own thread and the source's supervisor, which
+// re-queues the buffers, are not RT threads of gvsd and are not counted.)
 TEST(NoAllocation, LibcameraSourceOnAFakeCameraOver600Frames) {
 #if !GVSD_ALLOC_HOOKS
   GTEST_SKIP() << "allocation counting replaces malloc, which the sanitizer runtime owns; "

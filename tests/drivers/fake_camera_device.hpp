@@ -5,6 +5,10 @@
 // requests completed as cancelled by stop(), controls applied as the sensor
 // can (exposure rounded to whole 14 us lines, so applied != asked), a
 // disconnect signal when unplugged. Tests script faults through FakeCamera.
+// A completed buffer is the application's until it is queued again: queue()
+// overwrites it at once (0xEE, as the next DMA would) and close() frees it,
+// so a source reading a buffer after giving it back reads 0xEE (and races,
+// for TSan), and one reading it after close reads freed memory (ASan).
 #pragma once
 
 #include <algorithm>
@@ -42,6 +46,7 @@ struct FakeCamera {
   std::atomic<int> opens{0};
   std::atomic<int> starts{0};
   std::atomic<std::uint64_t> queued{0};  ///< requests queued (first queue and re-queues)
+  std::atomic<int> with_app{0};          ///< buffers completed and not yet queued again
   std::mutex seen_mutex;
   std::map<std::uint32_t, int> queue_count_by_buffer;
   CameraControls last_controls;
@@ -86,6 +91,7 @@ class FakeCameraDevice final : public CameraDevice {
     stride_ = static_cast<std::size_t>(r.width_px + w_->stride_padding);
     buffers_.assign(static_cast<std::size_t>(r.buffer_count),
                     std::vector<std::uint8_t>(stride_ * static_cast<std::size_t>(r.height_px), 0xEE));
+    with_app_.assign(buffers_.size(), false);
     return {r.width_px, r.height_px, stride_, r.buffer_count};
   }
   void start(const CameraControls& controls, CameraEvents& events) override {
@@ -98,9 +104,12 @@ class FakeCameraDevice final : public CameraDevice {
     thread_ = std::thread([this] { run(); });
   }
   bool queue(std::uint32_t index, const CameraControls& controls) noexcept override {
-    if (stopping_.load() || !w_->present.load()) return false;
+    if (stopping_.load() || !w_->present.load() || index >= buffers_.size()) return false;
+    std::fill(buffers_[index].begin(), buffers_[index].end(), std::uint8_t{0xEE});
     {
       const std::lock_guard<std::mutex> lock(mutex_);
+      if (with_app_[index]) --w_->with_app;
+      with_app_[index] = false;
       pending_.push_back({index, controls});
     }
     ++w_->queued;
@@ -127,6 +136,9 @@ class FakeCameraDevice final : public CameraDevice {
   }
   void close() noexcept override {
     stop();
+    buffers_.clear();  // "unmapped": a later read is a use-after-free
+    buffers_.shrink_to_fit();
+    w_->with_app = 0;
     open_ = false;
   }
 
@@ -161,6 +173,8 @@ class FakeCameraDevice final : public CameraDevice {
         }
         p = pending_.front();
         pending_.pop_front();
+        with_app_[p.index] = true;
+        ++w_->with_app;
       }
       std::vector<std::uint8_t>& buf = buffers_[p.index];
       for (int y = 0; y < request_.height_px; ++y) {
@@ -192,6 +206,7 @@ class FakeCameraDevice final : public CameraDevice {
   CameraStreamRequest request_;
   std::size_t stride_ = 0;
   std::vector<std::vector<std::uint8_t>> buffers_;
+  std::vector<bool> with_app_;  ///< guarded by mutex_
   CameraEvents* events_ = nullptr;
   std::mutex mutex_;
   std::deque<Pending> pending_;

@@ -7,45 +7,17 @@
 #include <chrono>
 #include <thread>
 
-#include "fake_camera_device.hpp"
 #include "gvs/drivers/clock.hpp"
-#include "gvs/drivers/libcamera_source.hpp"
+#include "libcamera_rig.hpp"
 
 namespace gvs::drivers {
 namespace {
 
 using testing::FakeCamera;
 using testing::FakeCameraDevice;
-
-LibcameraSettings small_settings() {
-  LibcameraSettings s;
-  s.camera = {64, 48, 0.1, 0.0};
-  s.fps = 50.0;
-  s.buffer_count = 3;
-  s.exposure_initial_us = 1000.0;
-  s.exposure_max_us = 3000.0;
-  s.retry_interval_ms = 300.0;  // long enough that a loaded 2-core machine does not look like a silent camera
-  return s;
-}
-
-struct Rig {
-  std::shared_ptr<FakeCamera> cam = std::make_shared<FakeCamera>();
-  std::unique_ptr<LibcameraSource> source;
-  FrameSlot slot;
-  std::atomic<bool> stop{false};
-
-  explicit Rig(const LibcameraSettings& s = small_settings()) {
-    source = std::make_unique<LibcameraSource>(std::make_unique<FakeCameraDevice>(cam), s);
-    source->prepare(slot);
-  }
-  /// The next frame (skipping errors) within `tries` calls.
-  bool frame(int tries = 20) {
-    for (int i = 0; i < tries; ++i) {
-      if (source->next(slot, stop) == SourceStatus::frame) return true;
-    }
-    return false;
-  }
-};
+using testing::LibcameraRig;
+using testing::small_settings;
+using Rig = LibcameraRig;
 
 TEST(LibcameraSource, ChoosesTheFirstCameraOrTheOneNamed) {
   EXPECT_EQ(choose_camera({"a", "b"}, ""), "a");
