@@ -15,7 +15,7 @@
 
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/config_keys.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/source_factory.hpp"
 #include "gvs/daemon/startup_check.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"

@@ -13,7 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "gvs/can/sink.hpp"
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvsd_test_support.hpp"
 #include "steady_camera.hpp"
@@ -28,7 +28,7 @@ class ThrowingEstimator final : public FrameEstimator {
  public:
   ThrowingEstimator(std::int64_t from, std::int64_t to, std::int64_t std_throw_at)
       : from_(from), to_(to), std_throw_at_(std_throw_at), inner_(make_frame_estimator("truth", {})) {}
-  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) override {
     const std::int64_t i = slot.view.index;
     if (i >= from_ && i <= to_) {
       cv::Mat a(4, 4, CV_8UC1, cv::Scalar(1)), b(3, 3, CV_8UC1, cv::Scalar(1)), sum;
@@ -47,12 +47,12 @@ class ThrowingEstimator final : public FrameEstimator {
   std::unique_ptr<FrameEstimator> inner_;
 };
 
-FrameSlot slot_with(std::int64_t index, std::int64_t t_ns, double exposure_us) {
-  FrameSlot s;
+drivers::FrameSlot slot_with(std::int64_t index, std::int64_t t_ns, double exposure_us) {
+  drivers::FrameSlot s;
   s.view.index = index;
   s.view.t_ns = t_ns;
   s.view.exposure.exposure_us = exposure_us;
-  s.truth = FrameTruth{true, 10.0, 0.0, 10.0, 0.0, 0.0};
+  s.truth = drivers::FrameTruth{true, 10.0, 0.0, 10.0, 0.0, 0.0};
   return s;
 }
 
@@ -94,8 +94,8 @@ TEST(EstimatorException, PipelineKeepsRunningAndCountsTheFailures) {
   const ThrowingEstimator* est = estimator.get();
   Pipeline p(c, std::make_unique<testing::SteadyCamera>(), std::move(estimator), can::open_sink("candump:" + log));
   p.start();
-  const std::int64_t t0 = mono_now_ns();
-  while (p.latest().estimate.index < 40 && mono_now_ns() - t0 < 10 * kNsPerS) {
+  const std::int64_t t0 = drivers::mono_now_ns();
+  while (p.latest().estimate.index < 40 && drivers::mono_now_ns() - t0 < 10 * drivers::kNsPerS) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   p.request_stop();

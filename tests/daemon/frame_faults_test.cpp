@@ -141,7 +141,7 @@ TEST_F(FrameFaults, EachBadFrameGetsNoEstimateAndTheNextGoodFrameIsMeasured) {
     const bool input_reject = b.name == "wrong size" || b.name.find("exposure") != std::string::npos ||
                               b.name == "time backwards";
     EXPECT_EQ(r.total(), input_reject ? 1u : 0u) << b.name << " counted as an input reject";
-    for (const dsp::RejectReasonInfo& reason : dsp::kRejectReasons) {
+    for (const core::RejectReasonInfo& reason : core::kRejectReasons) {
       const bool this_one = input_reject && reason.method == e.method;
       EXPECT_EQ(r.of(reason.reason), this_one ? 1u : 0u) << b.name << " counted as " << reason.method;
     }
@@ -168,12 +168,12 @@ TEST_F(FrameFaults, TimestampJumpForgetsThePairButMeasuresTheFrame) {
 TEST_F(FrameFaults, UnreadableFrameIsNamedCountedAndSkipped) {
   dsp::FrameProcessor p(config_);
   for (std::size_t i = 0; i < 4; ++i) expect_good(p.process(good_[i]), i, "start");
-  const core::VelocityEstimate e = p.reject(good_[4], dsp::RejectReason::unreadable);
+  const core::VelocityEstimate e = p.reject(good_[4], core::RejectReason::unreadable);
   expect_nothing(e, "unreadable");
   EXPECT_EQ(e.method, core::Method::unreadable);
   EXPECT_EQ(e.index, good_[4].index);
   for (std::size_t i = 5; i < 8; ++i) expect_good(p.process(good_[i]), i, "unreadable");
-  EXPECT_EQ(p.rejects().of(dsp::RejectReason::unreadable), 1u);
+  EXPECT_EQ(p.rejects().of(core::RejectReason::unreadable), 1u);
   EXPECT_EQ(p.rejects().total(), 1u);
 }
 
@@ -184,18 +184,18 @@ TEST_F(FrameFaults, EachSourceDefectIsCountedUnderItsOwnReason) {
   dsp::FrameProcessor p(config_);
   for (std::size_t i = 0; i < 4; ++i) expect_good(p.process(good_[i]), i, "start");
   std::uint64_t n = 0;
-  for (const dsp::RejectReasonInfo& reason : dsp::kRejectReasons) {
-    SCOPED_TRACE(dsp::reject_word(reason.reason));
+  for (const core::RejectReasonInfo& reason : core::kRejectReasons) {
+    SCOPED_TRACE(core::reject_word(reason.reason));
     for (std::uint64_t k = 0; k <= n; ++k) {  // reason i is reported i + 1 times
       const core::VelocityEstimate e = p.reject(good_[4], reason.reason);
-      expect_nothing(e, dsp::reject_word(reason.reason));
+      expect_nothing(e, core::reject_word(reason.reason));
       EXPECT_EQ(e.method, reason.method);
     }
     ++n;
   }
   n = 0;
-  for (const dsp::RejectReasonInfo& reason : dsp::kRejectReasons) {
-    EXPECT_EQ(p.rejects().of(reason.reason), ++n) << dsp::reject_word(reason.reason);
+  for (const core::RejectReasonInfo& reason : core::kRejectReasons) {
+    EXPECT_EQ(p.rejects().of(reason.reason), ++n) << core::reject_word(reason.reason);
   }
   EXPECT_EQ(p.rejects().total(), n * (n + 1) / 2);
 }
@@ -204,20 +204,20 @@ TEST_F(FrameFaults, EachSourceDefectIsCountedUnderItsOwnReason) {
 // counts as no-light-in-exposure, not as unreadable.
 TEST_F(FrameFaults, FrameEstimatorCountsSlotDefectsPerReason) {
   const std::unique_ptr<FrameEstimator> est = make_frame_estimator("gvs", config_.estimator.camera);
-  FrameSlot slot;
+  drivers::FrameSlot slot;
   slot.view = good_[0];
-  slot.defect = dsp::RejectReason::no_light_in_exposure;
+  slot.defect = core::RejectReason::no_light_in_exposure;
   EXPECT_EQ(est->estimate(slot).method, core::Method::no_light_in_exposure);
   slot.view = good_[1];
-  slot.defect = dsp::RejectReason::no_exposure_metadata;
+  slot.defect = core::RejectReason::no_exposure_metadata;
   EXPECT_EQ(est->estimate(slot).method, core::Method::no_exposure_metadata);
   slot.view = good_[2];
-  slot.defect = dsp::RejectReason::no_light_in_exposure;
+  slot.defect = core::RejectReason::no_light_in_exposure;
   (void)est->estimate(slot);
-  const dsp::RejectCounts counts = est->rejected_frames();
-  EXPECT_EQ(counts[static_cast<std::size_t>(dsp::RejectReason::no_light_in_exposure)], 2u);
-  EXPECT_EQ(counts[static_cast<std::size_t>(dsp::RejectReason::no_exposure_metadata)], 1u);
-  EXPECT_EQ(counts[static_cast<std::size_t>(dsp::RejectReason::unreadable)], 0u);
+  const core::RejectCounts counts = est->rejected_frames();
+  EXPECT_EQ(counts[static_cast<std::size_t>(core::RejectReason::no_light_in_exposure)], 2u);
+  EXPECT_EQ(counts[static_cast<std::size_t>(core::RejectReason::no_exposure_metadata)], 1u);
+  EXPECT_EQ(counts[static_cast<std::size_t>(core::RejectReason::unreadable)], 0u);
 }
 
 TEST_F(FrameFaults, ABurstOfBadFramesNeverGivesAnEstimate) {

@@ -17,9 +17,9 @@
 
 #include "fake_camera_device.hpp"
 #include "gvs/can/sink.hpp"
-#include "gvs/daemon/clock.hpp"
-#include "gvs/daemon/frame_source.hpp"
-#include "gvs/daemon/libcamera_source.hpp"
+#include "gvs/drivers/clock.hpp"
+#include "gvs/daemon/source_factory.hpp"
+#include "gvs/drivers/libcamera_source.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
@@ -152,7 +152,7 @@ DaemonConfig alloc_config(const std::string& estimator, const std::string& sourc
   return c;
 }
 
-void count_allocations(const DaemonConfig& c, std::unique_ptr<FrameSource> source, std::uint64_t frames);
+void count_allocations(const DaemonConfig& c, std::unique_ptr<drivers::FrameSource> source, std::uint64_t frames);
 
 void count_allocations(const std::string& estimator, const std::string& source_uri, int width_px,
                        std::uint64_t frames) {
@@ -164,7 +164,7 @@ void count_allocations(const std::string& estimator, const std::string& source_u
   count_allocations(c, make_frame_source(c), frames);
 }
 
-void count_allocations(const DaemonConfig& c, std::unique_ptr<FrameSource> source, std::uint64_t frames) {
+void count_allocations(const DaemonConfig& c, std::unique_ptr<drivers::FrameSource> source, std::uint64_t frames) {
   void* prime[2];
   (void)backtrace(prime, 2);  // loads libgcc's unwinder now, not while counting
   const std::string log =
@@ -178,14 +178,14 @@ void count_allocations(const DaemonConfig& c, std::unique_ptr<FrameSource> sourc
   p.start();
 
   constexpr std::uint64_t kWarmup = 30;
-  const std::int64_t deadline = mono_now_ns() + 600 * kNsPerS;
-  while (p.counters().frames_processed.load() < kWarmup && mono_now_ns() < deadline) {
+  const std::int64_t deadline = drivers::mono_now_ns() + 600 * drivers::kNsPerS;
+  while (p.counters().frames_processed.load() < kWarmup && drivers::mono_now_ns() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   const std::uint64_t start = p.counters().frames_processed.load();
   const std::uint64_t sent_before = p.counters().frames_sent.load();
   g_armed = true;
-  while (p.counters().frames_processed.load() < start + frames && mono_now_ns() < deadline) {
+  while (p.counters().frames_processed.load() < start + frames && drivers::mono_now_ns() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   g_armed = false;
@@ -231,20 +231,22 @@ TEST(NoAllocation, DaemonPathsOver1000Frames) {
   count_allocations("truth", "replay:" + make_replay_dataset(128, 1100), 128, 1000);
 }
 
-// The libcamera source's capture path (hand-off -> ring) on the fake camera
-// at 200 fps: the capture thread's next() copies, never allocates. (The
-// camera's own thread is not an RT thread of gvsd and is not counted.)
+// The libcamera source's capture path (camera buffer -> ring slot) on the
+// fake camera at 200 fps: the capture thread's next() copies, never
+// allocates. (The camera's own thread and the source's supervisor, which
+// re-queues the buffers, are not RT threads of gvsd and are not counted.)
 TEST(NoAllocation, LibcameraSourceOnAFakeCameraOver600Frames) {
 #if !GVSD_ALLOC_HOOKS
   GTEST_SKIP() << "allocation counting replaces malloc, which the sanitizer runtime owns; "
                   "run gvsd_alloc_test in the release build";
 #endif
   const DaemonConfig c = alloc_config("truth", "libcamera", 128);
-  auto cam = std::make_shared<testing::FakeCamera>();
+  auto cam = std::make_shared<drivers::testing::FakeCamera>();
   cam->fps = 200.0;
-  LibcameraSettings s = libcamera_settings(c, "");
+  drivers::LibcameraSettings s = libcamera_settings(c, "");
   s.fps = 200.0;
-  count_allocations(c, std::make_unique<LibcameraSource>(std::make_unique<testing::FakeCameraDevice>(cam), s), 600);
+  count_allocations(
+      c, std::make_unique<drivers::LibcameraSource>(std::make_unique<drivers::testing::FakeCameraDevice>(cam), s), 600);
 }
 
 // The same with the real estimator "gvs": its FFTs run on plans made during

@@ -18,7 +18,7 @@
 #include <sstream>
 #include <thread>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/simulator.hpp"
 #include "gvs/core/method.hpp"
@@ -167,7 +167,7 @@ void must_show_run(const std::string& method, const std::string& source, Pace pa
   double speed_sum = 0.0, dir_min = 1e9, dir_max = -1e9;
   for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
     const testing::LoggedMessage& m = msgs.velocity[i];
-    if (m.t_ns - t0 < 500 * kNsPerMs) continue;
+    if (m.t_ns - t0 < 500 * drivers::kNsPerMs) continue;
     ++counted;
     const auto& v = m.decoded.velocity;
     const auto& xy = msgs.velocity_xy[i].decoded.xy;
@@ -271,15 +271,15 @@ TEST(Gvsd, SigtermStopsCleanlyWithin100Milliseconds) {
   const Child c = spawn({"--source", "replay:" + replay_dataset().string(), "--can", "candump:" + log.string()},
                         "sigterm");
   // Wait until it runs (CAN lines appear), then a little more.
-  const std::int64_t deadline = mono_now_ns() + 30 * kNsPerS;
-  while (read_candump_log(log.string()).velocity.size() < 10 && mono_now_ns() < deadline) {
+  const std::int64_t deadline = drivers::mono_now_ns() + 30 * drivers::kNsPerS;
+  while (read_candump_log(log.string()).velocity.size() < 10 && drivers::mono_now_ns() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  const std::int64_t t0 = mono_now_ns();
+  const std::int64_t t0 = drivers::mono_now_ns();
   kill(c.pid, SIGTERM);
   const int code = wait_exit(c);
-  const double took_ms = static_cast<double>(mono_now_ns() - t0) / 1e6;
+  const double took_ms = static_cast<double>(drivers::mono_now_ns() - t0) / 1e6;
   EXPECT_EQ(code, 0) << slurp(c.err);
   EXPECT_LT(took_ms, 100.0);
   const auto msgs = read_candump_log(log.string());

@@ -25,8 +25,8 @@
 #include <vector>
 
 #include "gvs/can/sink.hpp"
-#include "gvs/daemon/clock.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/clock.hpp"
+#include "gvs/daemon/source_factory.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
 using namespace gvs::daemon;

@@ -11,7 +11,7 @@
 
 #include "gvs/can/e2e.hpp"
 #include "gvs/can/sink.hpp"
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvsd_test_support.hpp"
 
@@ -22,31 +22,31 @@ using testing::read_candump_log;
 
 /// A camera at `fps` that delivers `frames` frames (all of a car at 10 m/s,
 /// 2 deg) and then goes silent until stopped.
-class ScriptedCamera final : public FrameSource {
+class ScriptedCamera final : public drivers::FrameSource {
  public:
   ScriptedCamera(double fps, std::int64_t frames) : period_ns_(static_cast<std::int64_t>(1e9 / fps)), frames_(frames) {}
   std::string describe() const override { return "scripted"; }
   core::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
   double nominal_fps() const override { return 1e9 / static_cast<double>(period_ns_); }
-  void prepare(FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
-  SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
-    if (base_ns_ < 0) base_ns_ = mono_now_ns();
+  void prepare(drivers::FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
+  drivers::SourceStatus next(drivers::FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
+    if (base_ns_ < 0) base_ns_ = drivers::mono_now_ns();
     if (index_ >= frames_) {
-      silent_since_ns.store(silent_since_ns.load() < 0 ? mono_now_ns() : silent_since_ns.load());
-      while (!stop.load()) sleep_until_ns(mono_now_ns() + kNsPerMs);
-      return SourceStatus::stopped;
+      silent_since_ns.store(silent_since_ns.load() < 0 ? drivers::mono_now_ns() : silent_since_ns.load());
+      while (!stop.load()) drivers::sleep_until_ns(drivers::mono_now_ns() + drivers::kNsPerMs);
+      return drivers::SourceStatus::stopped;
     }
     const std::int64_t due = base_ns_ + (index_ + 1) * period_ns_;
-    while (mono_now_ns() < due) {
-      if (stop.load()) return SourceStatus::stopped;
-      sleep_until_ns(std::min(due, mono_now_ns() + 5 * kNsPerMs));
+    while (drivers::mono_now_ns() < due) {
+      if (stop.load()) return drivers::SourceStatus::stopped;
+      drivers::sleep_until_ns(std::min(due, drivers::mono_now_ns() + 5 * drivers::kNsPerMs));
     }
     slot.view.index = index_++;
     slot.view.t_ns = due - 1'000'000;
     slot.view.exposure = plan_;
     slot.view.exposure.exposure_us = 1000.0;
-    slot.truth = FrameTruth{true, 9.99391, 0.34899, 10.0, 2.0, 0.0};
-    return SourceStatus::frame;
+    slot.truth = drivers::FrameTruth{true, 9.99391, 0.34899, 10.0, 2.0, 0.0};
+    return drivers::SourceStatus::frame;
   }
   void set_exposure(const core::ExposurePlan& plan) noexcept override {
     plan_ = plan;
@@ -71,8 +71,8 @@ class ScriptedCamera final : public FrameSource {
 class SlowEstimator final : public FrameEstimator {
  public:
   explicit SlowEstimator(int delay_ms) : delay_ms_(delay_ms), inner_(make_frame_estimator("truth", {})) {}
-  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
-    sleep_until_ns(mono_now_ns() + delay_ms_ * kNsPerMs);
+  core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) override {
+    drivers::sleep_until_ns(drivers::mono_now_ns() + delay_ms_ * drivers::kNsPerMs);
     return inner_->estimate(slot);
   }
   void reset() noexcept override {}
@@ -89,7 +89,7 @@ class DoctoredTruth final : public FrameEstimator {
  public:
   DoctoredTruth(double quality, std::int64_t outlier_from, std::int64_t outlier_to)
       : quality_(quality), from_(outlier_from), to_(outlier_to), inner_(make_frame_estimator("truth", {})) {}
-  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) override {
     core::VelocityEstimate e = inner_->estimate(slot);
     e.quality = quality_;
     if (slot.view.index >= from_ && slot.view.index <= to_) {
@@ -131,7 +131,7 @@ TEST(Pipeline, StaleEstimateGoesOutInvalidNeverAsFresh) {
   p.start();
   while (cam->silent_since_ns.load() < 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   const std::int64_t silent_mono = cam->silent_since_ns.load();
-  const std::int64_t silent_real = real_now_ns() - (mono_now_ns() - silent_mono);
+  const std::int64_t silent_real = drivers::real_now_ns() - (drivers::mono_now_ns() - silent_mono);
   std::this_thread::sleep_for(std::chrono::milliseconds(400));
   p.request_stop();
   p.join();
@@ -143,7 +143,7 @@ TEST(Pipeline, StaleEstimateGoesOutInvalidNeverAsFresh) {
   for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
     const auto& m = msgs.velocity[i];
     const auto& xy = msgs.velocity_xy[i].decoded.xy;
-    if (m.t_ns < silent_real - 20 * kNsPerMs && m.t_ns > silent_real - 250 * kNsPerMs) {
+    if (m.t_ns < silent_real - 20 * drivers::kNsPerMs && m.t_ns > silent_real - 250 * drivers::kNsPerMs) {
       fresh_valid += m.decoded.velocity.valid ? 1 : 0;
       if (m.decoded.velocity.valid) {
         EXPECT_NEAR(m.decoded.velocity.speed_mps, 10.0, 0.01);
@@ -152,7 +152,7 @@ TEST(Pipeline, StaleEstimateGoesOutInvalidNeverAsFresh) {
       }
     }
     // 50 ms staleness limit + the last frame's age at the silence + one period of slack.
-    if (m.t_ns > silent_real + 80 * kNsPerMs) {
+    if (m.t_ns > silent_real + 80 * drivers::kNsPerMs) {
       ++late_checked;
       late_valid += m.decoded.velocity.valid || m.decoded.velocity.speed_valid || xy.valid ? 1 : 0;
       EXPECT_GT(xy.age_ms, 50u) << "the age says how old the estimate is";
@@ -231,7 +231,7 @@ TEST(Pipeline, MinQualityReloadsWhileRunning) {
              can::open_sink("candump:" + log));
   p.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(250));
-  const std::int64_t reload_real = real_now_ns();
+  const std::int64_t reload_real = drivers::real_now_ns();
   c.min_quality = 0.2;
   p.apply_reloadable(c);  // what SIGHUP does
   std::this_thread::sleep_for(std::chrono::milliseconds(250));
@@ -242,7 +242,7 @@ TEST(Pipeline, MinQualityReloadsWhileRunning) {
   int valid_before = 0, valid_after = 0, after = 0;
   for (const auto& m : msgs.velocity) {
     if (m.t_ns < reload_real) valid_before += m.decoded.velocity.valid ? 1 : 0;
-    if (m.t_ns > reload_real + 25 * kNsPerMs) {
+    if (m.t_ns > reload_real + 25 * drivers::kNsPerMs) {
       ++after;
       valid_after += m.decoded.velocity.valid ? 1 : 0;
     }
@@ -318,7 +318,7 @@ TEST(Pipeline, SlowProcessingCountsOverrunsAndSkipsToTheNewestFrame) {
   // takes the newest, so the age stays near one processing time.
   const PublishedEstimate latest = p.latest();
   EXPECT_GT(latest.sequence, 5u);
-  EXPECT_LT(latest.published_ns - latest.captured_ns, 100 * kNsPerMs);
+  EXPECT_LT(latest.published_ns - latest.captured_ns, 100 * drivers::kNsPerMs);
 }
 
 TEST(Pipeline, ExposureControlClosesTheLoopToTheCamera) {
@@ -350,8 +350,10 @@ TEST(Pipeline, BoundedRunSendsExactlyItsPeriods) {
   Pipeline p(c, std::make_unique<ScriptedCamera>(100.0, 1000000), make_frame_estimator("truth", {}),
              can::open_sink("candump:" + log), hooks);
   p.start();
-  const std::int64_t t0 = mono_now_ns();
-  while (!p.run_complete() && mono_now_ns() - t0 < 5 * kNsPerS) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const std::int64_t t0 = drivers::mono_now_ns();
+  while (!p.run_complete() && drivers::mono_now_ns() - t0 < 5 * drivers::kNsPerS) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
   EXPECT_TRUE(p.run_complete());
   p.request_stop();
   p.join();
@@ -375,12 +377,12 @@ TEST(Pipeline, StopsWithin100Milliseconds) {
              can::open_sink("candump:" + log));
   p.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(150));
-  const std::int64_t t0 = mono_now_ns();
+  const std::int64_t t0 = drivers::mono_now_ns();
   p.request_stop();
   p.join();
-  const std::int64_t took = mono_now_ns() - t0;
+  const std::int64_t took = drivers::mono_now_ns() - t0;
   std::filesystem::remove(log);
-  EXPECT_LT(took, 100 * kNsPerMs);
+  EXPECT_LT(took, 100 * drivers::kNsPerMs);
 }
 
 }  // namespace

@@ -10,8 +10,8 @@
 
 #include "fake_camera_device.hpp"
 #include "gvs/can/sink.hpp"
-#include "gvs/daemon/clock.hpp"
-#include "gvs/daemon/libcamera_source.hpp"
+#include "gvs/drivers/clock.hpp"
+#include "gvs/drivers/libcamera_source.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvsd_test_support.hpp"
 
@@ -21,9 +21,9 @@ namespace {
 /// 10 m/s at 2 deg for every good frame (the camera path is under test, not the estimator).
 class ConstantEstimator final : public FrameEstimator {
  public:
-  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) override {
     const std::int64_t mid_ns = core::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
-    if (slot.defect) return core::no_estimate(slot.view.index, mid_ns, dsp::reject_method(*slot.defect));
+    if (slot.defect) return core::no_estimate(slot.view.index, mid_ns, core::reject_method(*slot.defect));
     core::VelocityEstimate e;
     e.index = slot.view.index;
     e.t_ns = mid_ns;
@@ -50,40 +50,43 @@ TEST(LibcameraPipeline, UnpluggedCameraGoesOutInvalidWithCameraFaultThenRecovers
   c.sender_thread.priority = 0;
   c.prefault_stack_kb = 64;
   c.staleness_limit_ms = 50.0;  // 3 frame periods at 60 fps
-  auto cam = std::make_shared<testing::FakeCamera>();
+  auto cam = std::make_shared<drivers::testing::FakeCamera>();
   cam->fps = 60.0;
-  LibcameraSettings s;
+  drivers::LibcameraSettings s;
   s.camera = {64, 48, 0.1, 0.0};
   s.fps = 60.0;
   s.exposure_initial_us = 1000.0;
   s.retry_interval_ms = 300.0;
-  auto source = std::make_unique<LibcameraSource>(std::make_unique<testing::FakeCameraDevice>(cam), s);
-  const LibcameraSource* src = source.get();
+  auto source =
+      std::make_unique<drivers::LibcameraSource>(std::make_unique<drivers::testing::FakeCameraDevice>(cam), s);
+  const drivers::LibcameraSource* src = source.get();
   Pipeline p(c, std::move(source), std::make_unique<ConstantEstimator>(), can::open_sink("candump:" + log));
   p.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
-  const std::int64_t unplugged_real = real_now_ns();
+  const std::int64_t unplugged_real = drivers::real_now_ns();
   cam->present = false;
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  const std::int64_t replugged_real = real_now_ns();
+  const std::int64_t replugged_real = drivers::real_now_ns();
   cam->present = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(1200));
   p.request_stop();
   p.join();
-  const CameraHealth h = src->health();
+  const drivers::CameraHealth h = src->health();
 
   const auto msgs = testing::read_candump_log(log);
   std::filesystem::remove(log);
   int valid_before = 0, gone_checked = 0, gone_valid = 0, valid_after = 0;
   for (const auto& m : msgs.velocity) {
     const bool valid = m.decoded.velocity.valid || m.decoded.velocity.speed_valid;
-    if (m.t_ns > unplugged_real - 600 * kNsPerMs && m.t_ns < unplugged_real - 20 * kNsPerMs) valid_before += valid;
+    if (m.t_ns > unplugged_real - 600 * drivers::kNsPerMs && m.t_ns < unplugged_real - 20 * drivers::kNsPerMs) {
+      valid_before += valid;
+    }
     // staleness limit 50 ms + the last frame's age at the unplug (one period) + one CAN period + slack
-    if (m.t_ns > unplugged_real + 100 * kNsPerMs && m.t_ns < replugged_real) {
+    if (m.t_ns > unplugged_real + 100 * drivers::kNsPerMs && m.t_ns < replugged_real) {
       ++gone_checked;
       gone_valid += valid;
     }
-    if (m.t_ns > replugged_real + 700 * kNsPerMs) valid_after += valid;
+    if (m.t_ns > replugged_real + 700 * drivers::kNsPerMs) valid_after += valid;
   }
   EXPECT_GE(valid_before, 10) << "frames flow: valid velocity";
   EXPECT_GE(gone_checked, 15);
@@ -93,10 +96,10 @@ TEST(LibcameraPipeline, UnpluggedCameraGoesOutInvalidWithCameraFaultThenRecovers
   int fault_statuses = 0, running_after = 0;
   for (const auto& m : msgs.status) {
     const auto& st = m.decoded.status_msg;
-    if (m.t_ns > unplugged_real + 150 * kNsPerMs && m.t_ns < replugged_real) {
+    if (m.t_ns > unplugged_real + 150 * drivers::kNsPerMs && m.t_ns < replugged_real) {
       fault_statuses += (st.faults & can::kFaultCamera) != 0 && st.state == can::SensorState::Fault;
     }
-    if (m.t_ns > replugged_real + 700 * kNsPerMs) running_after += st.state == can::SensorState::Running;
+    if (m.t_ns > replugged_real + 700 * drivers::kNsPerMs) running_after += st.state == can::SensorState::Running;
   }
   EXPECT_GE(fault_statuses, 2) << "GVS_Status carries the camera fault and state Fault";
   EXPECT_GE(running_after, 1);
@@ -117,13 +120,13 @@ TEST(LibcameraPipeline, ReloadedExposureMaxReachesTheCamera) {
   c.exposure_mode = "fixed";  // the plan never changes: only the reload can move the camera
   c.exposure_initial_us = 2800.0;
   c.exposure_max_us = 2000.0;
-  auto cam = std::make_shared<testing::FakeCamera>();
-  LibcameraSettings s;
+  auto cam = std::make_shared<drivers::testing::FakeCamera>();
+  drivers::LibcameraSettings s;
   s.camera = {64, 48, 0.1, 0.0};
   s.fps = cam->fps;
   s.exposure_initial_us = c.exposure_initial_us;
   s.exposure_max_us = c.exposure_max_us;
-  Pipeline p(c, std::make_unique<LibcameraSource>(std::make_unique<testing::FakeCameraDevice>(cam), s),
+  Pipeline p(c, std::make_unique<drivers::LibcameraSource>(std::make_unique<drivers::testing::FakeCameraDevice>(cam), s),
              std::make_unique<ConstantEstimator>(), can::open_sink("candump:" + log));
   p.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));

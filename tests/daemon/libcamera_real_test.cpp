@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "gvs/daemon/config.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/source_factory.hpp"
 #include "gvs/drivers/camera_device.hpp"
 
 namespace gvs::daemon {

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "gvs/can/sink.hpp"
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvsd_test_support.hpp"
 #include "steady_camera.hpp"
@@ -47,11 +47,11 @@ TEST(LightFault, StrobeErrorsRaiseGvsFaultLightInTheNextStatusOnly) {
              make_frame_estimator("truth", {}), can::open_sink("candump:" + log), hooks);
   p.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(350));
-  const std::int64_t fail_from_real = real_now_ns();
+  const std::int64_t fail_from_real = drivers::real_now_ns();
   failing->store(true);
   std::this_thread::sleep_for(std::chrono::milliseconds(150));
   failing->store(false);
-  const std::int64_t fail_to_real = real_now_ns();
+  const std::int64_t fail_to_real = drivers::real_now_ns();
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   p.request_stop();
   p.join();
@@ -67,7 +67,7 @@ TEST(LightFault, StrobeErrorsRaiseGvsFaultLightInTheNextStatusOnly) {
     if (t < fail_from_real) {
       EXPECT_FALSE(light) << "status " << i << " before any strobe error";
       ++clean_before;
-    } else if (i > 0 && msgs.status[i - 1].t_ns > fail_to_real + 50 * kNsPerMs) {
+    } else if (i > 0 && msgs.status[i - 1].t_ns > fail_to_real + 50 * drivers::kNsPerMs) {
       // The previous status already counted every error: nothing new since.
       EXPECT_FALSE(light) << "status " << i << " after the strobe recovered";
       ++clean_after;

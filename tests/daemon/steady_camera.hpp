@@ -6,36 +6,36 @@
 #include <algorithm>
 #include <atomic>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/config.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/frame_source.hpp"
 
 namespace gvs::daemon::testing {
 
-class SteadyCamera final : public FrameSource {
+class SteadyCamera final : public drivers::FrameSource {
  public:
   std::string describe() const override { return "steady"; }
   core::CameraGeometry geometry() const override { return {64, 48, 0.1, 0.0}; }
   double nominal_fps() const override { return 100.0; }
-  void prepare(FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
-  SourceStatus next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
-    if (base_ns_ < 0) base_ns_ = mono_now_ns();
+  void prepare(drivers::FrameSlot& slot) override { slot.view.gray.create(48, 64, CV_8UC1); }
+  drivers::SourceStatus next(drivers::FrameSlot& slot, const std::atomic<bool>& stop) noexcept override {
+    if (base_ns_ < 0) base_ns_ = drivers::mono_now_ns();
     const std::int64_t due = base_ns_ + (index_ + 1) * kPeriodNs;
-    while (mono_now_ns() < due) {
-      if (stop.load()) return SourceStatus::stopped;
-      sleep_until_ns(std::min(due, mono_now_ns() + 5 * kNsPerMs));
+    while (drivers::mono_now_ns() < due) {
+      if (stop.load()) return drivers::SourceStatus::stopped;
+      drivers::sleep_until_ns(std::min(due, drivers::mono_now_ns() + 5 * drivers::kNsPerMs));
     }
     slot.view.index = index_++;
-    slot.view.t_ns = due - kNsPerMs;
+    slot.view.t_ns = due - drivers::kNsPerMs;
     slot.view.exposure.exposure_us = 1000.0;
-    slot.truth = FrameTruth{true, 10.0, 0.0, 10.0, 0.0, 0.0};
-    return SourceStatus::frame;
+    slot.truth = drivers::FrameTruth{true, 10.0, 0.0, 10.0, 0.0, 0.0};
+    return drivers::SourceStatus::frame;
   }
   void set_exposure(const core::ExposurePlan&) noexcept override {}
   bool controls_exposure() const override { return false; }
 
  private:
-  static constexpr std::int64_t kPeriodNs = 10 * kNsPerMs;
+  static constexpr std::int64_t kPeriodNs = 10 * drivers::kNsPerMs;
   std::int64_t index_ = 0;
   std::int64_t base_ns_ = -1;
 };

@@ -23,7 +23,7 @@
 
 #include "commands.hpp"
 #include "usage.hpp"
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/core/frame.hpp"
 #include "live_source.hpp"
@@ -43,7 +43,7 @@ struct RecordOptions {
 struct PendingFrame {
   cv::Mat gray;  ///< from the pool, allocated once
   drivers::FrameRecord record;
-  daemon::FrameTruth truth;
+  drivers::FrameTruth truth;
 };
 
 /// Writes frames on its own thread, so PNG encoding never holds up the
@@ -61,7 +61,7 @@ class BackgroundWriter {
   BackgroundWriter& operator=(const BackgroundWriter&) = delete;
 
   /// False when the pool is exhausted (the frame is left out).
-  bool push(const daemon::FrameSlot& slot, const drivers::FrameRecord& rec) {
+  bool push(const drivers::FrameSlot& slot, const drivers::FrameRecord& rec) {
     std::unique_lock<std::mutex> lock(mutex_);
     if (free_.empty()) return false;
     PendingFrame f{free_.back(), rec, slot.truth};
@@ -150,13 +150,13 @@ void run_record(const RecordOptions& o) {
   long delivered = 0, defects = 0, errors = 0, disk_behind = 0;
   {
     BackgroundWriter background(writer, simulated, camera.geometry, 120);
-    const std::int64_t end_ns = daemon::mono_now_ns() + static_cast<std::int64_t>(o.seconds * 1e9);
+    const std::int64_t end_ns = drivers::mono_now_ns() + static_cast<std::int64_t>(o.seconds * 1e9);
     std::int64_t first_index = -1;
     std::atomic<bool>& stop = stop_requested();
-    while (daemon::mono_now_ns() < end_ns && !stop.load()) {
-      const daemon::SourceStatus st = live.source->next(live.slot, stop);
-      if (st == daemon::SourceStatus::stopped || st == daemon::SourceStatus::end) break;
-      if (st == daemon::SourceStatus::error) {
+    while (drivers::mono_now_ns() < end_ns && !stop.load()) {
+      const drivers::SourceStatus st = live.source->next(live.slot, stop);
+      if (st == drivers::SourceStatus::stopped || st == drivers::SourceStatus::end) break;
+      if (st == drivers::SourceStatus::error) {
         ++errors;
         continue;
       }

@@ -192,9 +192,9 @@ void snapshot_live(const SnapshotOptions& o) {
   core::VelocityEstimate e;
   int frames = 0, errors = 0;
   while (frames < 6) {
-    const daemon::SourceStatus st = live.source->next(live.slot, stop_requested());
-    if (st == daemon::SourceStatus::stopped || st == daemon::SourceStatus::end) break;
-    if (st == daemon::SourceStatus::error || live.slot.defect) {
+    const drivers::SourceStatus st = live.source->next(live.slot, stop_requested());
+    if (st == drivers::SourceStatus::stopped || st == drivers::SourceStatus::end) break;
+    if (st == drivers::SourceStatus::error || live.slot.defect) {
       if (++errors > 100) break;
       continue;
     }

@@ -2,6 +2,8 @@
 
 #include <csignal>
 
+#include "gvs/daemon/source_factory.hpp"
+
 namespace gvs::cli {
 
 namespace {

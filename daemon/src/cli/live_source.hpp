@@ -8,14 +8,14 @@
 #include <string>
 
 #include "gvs/daemon/config.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/frame_source.hpp"
 
 namespace gvs::cli {
 
 struct LiveSource {
   daemon::DaemonConfig config;
-  std::unique_ptr<daemon::FrameSource> source;
-  daemon::FrameSlot slot;  ///< prepared: next() fills it
+  std::unique_ptr<drivers::FrameSource> source;
+  drivers::FrameSlot slot;  ///< prepared: next() fills it
 };
 
 /// Reads `config_file` (built-in defaults when empty), `source_uri`

@@ -14,11 +14,11 @@
 #include <spdlog/spdlog.h>
 
 #include "gvs/can/sink.hpp"
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/config_keys.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/source_factory.hpp"
 #include "gvs/daemon/health.hpp"
 #include "gvs/daemon/logging.hpp"
 #include "gvs/daemon/pipeline.hpp"
@@ -86,7 +86,7 @@ void log_sink_events(Pipeline& pipeline) {
 /// SIGHUP: re-read the file, apply what can change while running.
 void reload(const CommandLine& cli, DaemonConfig& running, Pipeline& pipeline) {
   sd_notifyf(0, "RELOADING=1\nMONOTONIC_USEC=%llu",
-             static_cast<unsigned long long>(mono_now_ns() / 1000));
+             static_cast<unsigned long long>(drivers::mono_now_ns() / 1000));
   if (cli.config_file.empty()) {
     spdlog::info("SIGHUP: no --config file, nothing to reload");
   } else {
@@ -180,7 +180,7 @@ int run(const CommandLine& cli) {
   sd_notify(0, "READY=1\nSTATUS=starting");
   if (watchdog) spdlog::info("systemd watchdog every {} ms (fed while every thread makes progress)", watchdog_usec / 1000);
 
-  const std::int64_t started_ns = mono_now_ns();
+  const std::int64_t started_ns = drivers::mono_now_ns();
   std::int64_t next_health_ns = started_ns + static_cast<std::int64_t>(config.health_interval_s * 1e9);
   std::int64_t next_watchdog_ns = started_ns;
   WatchdogGate watchdog_gate(pipeline->progress());
@@ -189,10 +189,10 @@ int run(const CommandLine& cli) {
   std::string stop_reason;
 
   while (stop_reason.empty()) {
-    const timespec wait = to_timespec(20 * kNsPerMs);
+    const timespec wait = drivers::to_timespec(20 * drivers::kNsPerMs);
     siginfo_t info{};
     const int sig = sigtimedwait(&signals, &info, &wait);
-    const std::int64_t now = mono_now_ns();
+    const std::int64_t now = drivers::mono_now_ns();
     if (sig == SIGTERM || sig == SIGINT) {
       stop_reason = sig == SIGTERM ? "SIGTERM" : "SIGINT";
       break;
@@ -221,15 +221,15 @@ int run(const CommandLine& cli) {
   }
 
   sd_notify(0, "STOPPING=1");
-  const std::int64_t stop_ns = mono_now_ns();
+  const std::int64_t stop_ns = drivers::mono_now_ns();
   pipeline->request_stop();
   pipeline->join();
   log_sink_events(*pipeline);
   const HealthSnapshot h = snapshot(pipeline->counters());
-  spdlog::info("{}", format_health_line(h, last_health, pipeline->latest(), mono_now_ns(),
-                                        static_cast<double>(mono_now_ns() - last_health_ns) / 1e9));
+  spdlog::info("{}", format_health_line(h, last_health, pipeline->latest(), drivers::mono_now_ns(),
+                                        static_cast<double>(drivers::mono_now_ns() - last_health_ns) / 1e9));
   spdlog::info("stopped ({}) in {:.1f} ms after {:.1f} s", stop_reason,
-               static_cast<double>(mono_now_ns() - stop_ns) / 1e6,
+               static_cast<double>(drivers::mono_now_ns() - stop_ns) / 1e6,
                static_cast<double>(stop_ns - started_ns) / 1e9);
   return 0;
 }

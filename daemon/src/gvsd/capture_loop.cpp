@@ -11,7 +11,7 @@
 #include <array>
 #include <span>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
 namespace gvs::daemon {
@@ -21,7 +21,7 @@ void Pipeline::capture_loop() noexcept {
   std::uint64_t sequence = 0;
   std::int64_t expected_index = -1;
   const double fps = source_->nominal_fps();
-  const std::int64_t period_ns = fps > 0.0 ? static_cast<std::int64_t>(1e9 / fps) : 100 * kNsPerMs;
+  const std::int64_t period_ns = fps > 0.0 ? static_cast<std::int64_t>(1e9 / fps) : 100 * drivers::kNsPerMs;
 
   while (!stop_.load(std::memory_order_relaxed)) {
     bump(counters_.capture_heartbeat);
@@ -39,25 +39,25 @@ void Pipeline::capture_loop() noexcept {
     }
     if (light_) fire_light();
 
-    FrameSlot* slot = ring_.try_claim();
+    drivers::FrameSlot* slot = ring_.try_claim();
     const bool overrun = slot == nullptr;
     if (overrun) slot = &spare_;
 
     slot->defect.reset();  // a source sets it only for a frame it could not deliver
-    const SourceStatus status = source_->next(*slot, stop_);
-    if (status == SourceStatus::stopped) break;
-    if (status == SourceStatus::end) {
+    const drivers::SourceStatus status = source_->next(*slot, stop_);
+    if (status == drivers::SourceStatus::stopped) break;
+    if (status == drivers::SourceStatus::end) {
       source_ended_.store(true, std::memory_order_release);
       break;
     }
-    if (status == SourceStatus::error) {
+    if (status == drivers::SourceStatus::error) {
       bump(counters_.source_errors);
-      sleep_until_ns(mono_now_ns() + kNsPerMs);  // do not spin on a failing source
+      drivers::sleep_until_ns(drivers::mono_now_ns() + drivers::kNsPerMs);  // do not spin on a failing source
       continue;
     }
 
     if (light_ && !light_->hardware_timed() && !source_->frames_carry_light()) stamp_light(*slot);
-    slot->captured_ns = mono_now_ns();
+    slot->captured_ns = drivers::mono_now_ns();
     slot->sequence = ++sequence;
     bump(counters_.frames_captured);
     if (expected_index >= 0 && slot->view.index > expected_index) {
@@ -79,7 +79,7 @@ void Pipeline::capture_loop() noexcept {
 
 void Pipeline::fire_light() noexcept {
   constexpr std::int64_t kLeadNs = 200'000;  // time to sleep to the first edge rather than be late for it
-  const drivers::FireReport r = light_->fire(mono_now_ns() + kLeadNs);
+  const drivers::FireReport r = light_->fire(drivers::mono_now_ns() + kLeadNs);
   bump(counters_.light_plans);
   bump(counters_.light_edges, r.edges);
   if (r.late_edges > 0) bump(counters_.light_late_edges, r.late_edges);
@@ -97,7 +97,7 @@ void Pipeline::fire_light() noexcept {
   }
 }
 
-void Pipeline::stamp_light(FrameSlot& slot) noexcept {
+void Pipeline::stamp_light(drivers::FrameSlot& slot) noexcept {
   // The camera said how long its shutter was open; the light is what the LED
   // ring's measured edges put inside that time. None: the frame is dark for
   // a reason the estimator must not guess at.
@@ -106,7 +106,7 @@ void Pipeline::stamp_light(FrameSlot& slot) noexcept {
   if (drivers::light_in_exposure(history, slot.view.t_ns, slot.view.exposure.exposure_us, lit)) {
     slot.view.exposure = lit;
   } else if (!slot.defect) {
-    slot.defect = dsp::RejectReason::no_light_in_exposure;
+    slot.defect = core::RejectReason::no_light_in_exposure;
   }
 }
 

@@ -16,12 +16,12 @@ namespace {
 class DspEstimator final : public FrameEstimator {
  public:
   explicit DspEstimator(const dsp::FrameProcessorConfig& config) : processor_(config) {}
-  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) override {
     if (slot.defect) return processor_.reject(slot.view, *slot.defect);
     return processor_.process(slot.view);
   }
   void reset() noexcept override { processor_.reset(); }
-  [[nodiscard]] dsp::RejectCounts rejected_frames() const noexcept override { return processor_.rejects().by_reason; }
+  [[nodiscard]] core::RejectCounts rejected_frames() const noexcept override { return processor_.rejects().by_reason; }
   [[nodiscard]] std::string name() const override { return processor_.config().estimator.method; }
 
  private:
@@ -32,7 +32,7 @@ class DspEstimator final : public FrameEstimator {
 /// checks the daemon's timing and CAN path without an estimator's errors.
 class TruthEstimator final : public FrameEstimator {
  public:
-  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) override {
     const std::int64_t mid_ns = core::mid_exposure_ns(slot.view.t_ns, slot.view.exposure);
     if (!slot.truth.known) return core::no_estimate(slot.view.index, mid_ns, core::Method::none);
     core::VelocityEstimate e;
@@ -56,7 +56,7 @@ class TruthEstimator final : public FrameEstimator {
 
 }  // namespace
 
-core::VelocityEstimate FrameEstimator::estimate(const FrameSlot& slot) noexcept {
+core::VelocityEstimate FrameEstimator::estimate(const drivers::FrameSlot& slot) noexcept {
   try {
     return estimate_frame(slot);
   } catch (...) {

@@ -20,10 +20,10 @@ std::string estimate_text(const PublishedEstimate& latest, std::int64_t now_ns) 
 /// The rejected frames per reason that occurred, e.g. " [unreadable 2 (+1), wrong-size 1 (+0)]".
 std::string reject_text(const HealthSnapshot& n, const HealthSnapshot& p) {
   std::string out;
-  for (const dsp::RejectReasonInfo& r : dsp::kRejectReasons) {
+  for (const core::RejectReasonInfo& r : core::kRejectReasons) {
     const auto i = static_cast<std::size_t>(r.reason);
     if (n.frames_rejected_by[i] == 0) continue;
-    out += fmt::format("{}{} {} (+{})", out.empty() ? " [" : ", ", dsp::reject_word(r.reason), n.frames_rejected_by[i],
+    out += fmt::format("{}{} {} (+{})", out.empty() ? " [" : ", ", core::reject_word(r.reason), n.frames_rejected_by[i],
                        n.frames_rejected_by[i] - p.frames_rejected_by[i]);
   }
   if (!out.empty()) out += ']';

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 
 namespace gvs::daemon {
 
@@ -24,7 +24,9 @@ const char* role_name(ThreadRole role) {
 
 namespace {
 
-std::vector<FrameSlot> make_slots(int count) { return std::vector<FrameSlot>(static_cast<std::size_t>(count)); }
+std::vector<drivers::FrameSlot> make_slots(int count) {
+  return std::vector<drivers::FrameSlot>(static_cast<std::size_t>(count));
+}
 
 can::EncoderConfig encoder_config(const DaemonConfig& c) {
   can::EncoderConfig e;
@@ -34,7 +36,7 @@ can::EncoderConfig encoder_config(const DaemonConfig& c) {
 
 }  // namespace
 
-Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<FrameSource> source,
+Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<drivers::FrameSource> source,
                    std::unique_ptr<FrameEstimator> estimator, std::unique_ptr<can::CanSink> sink,
                    PipelineHooks hooks)
     : config_(config),
@@ -56,7 +58,7 @@ Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<FrameSource> sour
   exposure_request_.write(initial);
   apply_reloadable(config);
 
-  for (FrameSlot& slot : ring_.slots_for_setup()) source_->prepare(slot);
+  for (drivers::FrameSlot& slot : ring_.slots_for_setup()) source_->prepare(slot);
   source_->prepare(spare_);
   if (hooks_.record_capacity > 0) {
     records_.wakeup_late_ns.resize(hooks_.record_capacity);
@@ -95,7 +97,7 @@ void Pipeline::apply_reloadable(const DaemonConfig& c) noexcept {
 void Pipeline::start() {
   if (!threads_.empty()) throw std::logic_error("Pipeline::start called twice");
   // Let the estimator size its buffers on a frame of the right size, then forget it.
-  spare_.view.t_ns = mono_now_ns();
+  spare_.view.t_ns = drivers::mono_now_ns();
   (void)estimator_->estimate(spare_);
   spare_.view.t_ns += 16'666'667;
   spare_.view.index = 1;

@@ -2,7 +2,7 @@
 // latest estimate (seqlock) -> exposure controller -> next exposure plan (seqlock).
 #include <algorithm>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
 namespace gvs::daemon {
@@ -22,28 +22,28 @@ bool same_plan(const core::ExposurePlan& a, const core::ExposurePlan& b) {
 }  // namespace
 
 void Pipeline::processing_loop() noexcept {
-  constexpr std::int64_t kIdleWaitNs = 20 * kNsPerMs;  // heartbeat and stop check without frames
+  constexpr std::int64_t kIdleWaitNs = 20 * drivers::kNsPerMs;  // heartbeat and stop check without frames
   std::uint64_t published = 0;
   core::ExposurePlan plan = exposure_request_.read();
 
   while (!stop_.load(std::memory_order_relaxed)) {
     bump(counters_.processing_heartbeat);
     std::uint64_t skipped = 0;
-    FrameSlot* slot = ring_.take_newest(skipped);
+    drivers::FrameSlot* slot = ring_.take_newest(skipped);
     if (slot == nullptr) {
       frame_ready_.wait_for(kIdleWaitNs);
       continue;
     }
     if (skipped != 0) bump(counters_.frames_skipped, skipped);
 
-    const std::int64_t t0 = mono_now_ns();
+    const std::int64_t t0 = drivers::mono_now_ns();
     core::VelocityEstimate e = estimator_->estimate(*slot);
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
-    const std::int64_t t1 = mono_now_ns();
+    const std::int64_t t1 = drivers::mono_now_ns();
     if (!e.has_speed) bump(e.has_direction ? counters_.direction_only : counters_.estimator_failures);
-    const dsp::RejectCounts rejected = estimator_->rejected_frames();
+    const core::RejectCounts rejected = estimator_->rejected_frames();
     std::uint64_t rejected_total = 0;
-    for (std::size_t i = 0; i < dsp::kRejectReasonCount; ++i) {
+    for (std::size_t i = 0; i < core::kRejectReasonCount; ++i) {
       counters_.frames_rejected_by[i].store(rejected[i], std::memory_order_relaxed);
       rejected_total += rejected[i];
     }

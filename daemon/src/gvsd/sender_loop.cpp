@@ -5,7 +5,7 @@
 #include <array>
 
 #include "gvs/daemon/bus_estimate.hpp"
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
 namespace gvs::daemon {
@@ -77,16 +77,16 @@ can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, const can:
 }
 
 void Pipeline::sender_loop() noexcept {
-  const std::int64_t period_ns = config_.period_ms * kNsPerMs;
+  const std::int64_t period_ns = config_.period_ms * drivers::kNsPerMs;
   const int status_every = config_.status_period_ms / config_.period_ms;
   std::uint64_t last_sequence = 0;
   std::int64_t tick_sent = 0;  // periods actually sent
   status_last_ = snapshot(counters_);
-  std::int64_t next_ns = mono_now_ns() + period_ns;
+  std::int64_t next_ns = drivers::mono_now_ns() + period_ns;
 
   for (;;) {
-    sleep_until_ns(next_ns);
-    const std::int64_t woke_ns = mono_now_ns();
+    drivers::sleep_until_ns(next_ns);
+    const std::int64_t woke_ns = drivers::mono_now_ns();
     bump(counters_.sender_heartbeat);
     const PublishedEstimate latest = latest_.read();
 
@@ -115,7 +115,7 @@ void Pipeline::sender_loop() noexcept {
 
     if (latest.sequence != last_sequence) {
       last_sequence = latest.sequence;
-      const std::int64_t sent_ns = mono_now_ns();
+      const std::int64_t sent_ns = drivers::mono_now_ns();
       if (records_.estimates < records_.frame_to_can_ns.size()) {
         records_.frame_to_can_ns[records_.estimates] = sent_ns - latest.captured_ns;
         records_.frame_to_publish_ns[records_.estimates] = latest.published_ns - latest.captured_ns;
@@ -142,7 +142,7 @@ void Pipeline::sender_loop() noexcept {
     }
 
     next_ns += period_ns;
-    const std::int64_t now = mono_now_ns();
+    const std::int64_t now = drivers::mono_now_ns();
     if (next_ns <= now) {  // overslept whole periods: skip them, keep the phase
       const std::int64_t missed = (now - next_ns) / period_ns + 1;
       bump(counters_.missed_ticks, static_cast<std::uint64_t>(missed));

@@ -1,17 +1,19 @@
 // Builds the frame source named by a URI: sim:SCENARIO, replay:DIR, libcamera[:ID].
+#include "gvs/daemon/source_factory.hpp"
+
 #include <stdexcept>
 
+#include <spdlog/spdlog.h>
+
 #include "gvs/daemon/config.hpp"
-#include "gvs/daemon/frame_source.hpp"
-#include "gvs/daemon/libcamera_source.hpp"
+#include "gvs/drivers/replay_source.hpp"
+#include "gvs/drivers/sim_source.hpp"
 #include "gvs/drivers/simulator.hpp"
-#include "replay_source.hpp"
-#include "sim_source.hpp"
 
 namespace gvs::daemon {
 
-LibcameraSettings libcamera_settings(const DaemonConfig& config, const std::string& camera_id) {
-  LibcameraSettings s;
+drivers::LibcameraSettings libcamera_settings(const DaemonConfig& config, const std::string& camera_id) {
+  drivers::LibcameraSettings s;
   s.camera_id = camera_id;
   s.camera = config.camera;
   s.fps = config.libcamera_fps;
@@ -67,19 +69,24 @@ drivers::SimulatorConfig sim_config(const DaemonConfig& config, const std::strin
 
 }  // namespace
 
-std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config) {
+std::unique_ptr<drivers::FrameSource> make_frame_source(const DaemonConfig& config) {
   const std::string& uri = config.source_uri;
   const SourceUri u = split_source_uri(uri);
   if (u.scheme == "sim") {
     try {
-      return std::make_unique<SimSource>(sim_config(config, u.rest));
+      return std::make_unique<drivers::SimSource>(sim_config(config, u.rest));
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error("source '" + uri + "': " + e.what());
     }
   }
-  if (u.scheme == "replay") return std::make_unique<ReplaySource>(u.rest, config.replay_preload_limit_mb);
+  if (u.scheme == "replay") {
+    auto replay = std::make_unique<drivers::ReplaySource>(u.rest, config.replay_preload_limit_mb);
+    for (const std::string& w : replay->load_warnings()) spdlog::warn("{}", w);
+    return replay;
+  }
   try {
-    return std::make_unique<LibcameraSource>(drivers::make_libcamera_device(), libcamera_settings(config, u.rest));
+    return std::make_unique<drivers::LibcameraSource>(drivers::make_libcamera_device(),
+                                                      libcamera_settings(config, u.rest));
   } catch (const std::runtime_error& e) {
     throw std::runtime_error("source '" + uri + "': " + e.what());
   }
@@ -98,7 +105,7 @@ core::CameraGeometry check_frame_source(const DaemonConfig& config) {
     }
     return config.camera;
   }
-  if (u.scheme == "replay") return ReplaySource::check(u.rest, config.replay_preload_limit_mb);
+  if (u.scheme == "replay") return drivers::ReplaySource::check(u.rest, config.replay_preload_limit_mb);
   try {
     (void)libcamera_settings(config, u.rest);
   } catch (const std::runtime_error& e) {

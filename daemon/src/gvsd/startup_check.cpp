@@ -5,7 +5,7 @@
 #include "gvs/can/sink.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/daemon/source_factory.hpp"
 
 namespace gvs::daemon {
 

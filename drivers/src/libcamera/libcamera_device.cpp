@@ -134,7 +134,7 @@ class LibcameraDevice final : public CameraDevice {
       events_.store(nullptr, std::memory_order_release);
       throw std::runtime_error("libcamera: camera '" + camera_->id() + "' did not start");
     }
-    started_ = true;
+    started_.store(true, std::memory_order_release);
     for (auto& r : requests_) {
       if (camera_->queueRequest(r.get()) != 0) {
         throw std::runtime_error("libcamera: camera '" + camera_->id() + "' refused a request");
@@ -143,7 +143,7 @@ class LibcameraDevice final : public CameraDevice {
   }
 
   bool queue(std::uint32_t buffer_index, const CameraControls& controls) noexcept override {
-    if (!started_ || buffer_index >= requests_.size()) return false;
+    if (!started_.load(std::memory_order_acquire) || buffer_index >= requests_.size()) return false;
     try {
       lc::Request* r = requests_[buffer_index].get();
       r->reuse(lc::Request::ReuseBuffers);
@@ -155,8 +155,7 @@ class LibcameraDevice final : public CameraDevice {
   }
 
   void stop() noexcept override {
-    if (started_ && camera_) camera_->stop();  // completes pending requests as cancelled
-    started_ = false;
+    if (started_.exchange(false) && camera_) camera_->stop();  // completes pending requests as cancelled
     events_.store(nullptr, std::memory_order_release);
   }
 
@@ -219,7 +218,7 @@ class LibcameraDevice final : public CameraDevice {
   std::vector<Mapping> mappings_;
   std::size_t stride_bytes_ = 0;
   std::atomic<CameraEvents*> events_{nullptr};
-  bool started_ = false;
+  std::atomic<bool> started_{false};  ///< read by queue() on the camera thread and gvs's supervisor
 };
 
 }  // namespace

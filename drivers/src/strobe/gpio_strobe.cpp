@@ -3,29 +3,16 @@
 #include "gvs/drivers/gpio_strobe.hpp"
 
 #include <gpiod.h>
-#include <time.h>
 
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
 
+#include "gvs/drivers/clock.hpp"
+
 namespace gvs::drivers {
 
 namespace {
-
-std::int64_t now_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-void sleep_until_ns(std::int64_t t_ns) noexcept {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(t_ns / 1'000'000'000);
-  ts.tv_nsec = static_cast<long>(t_ns % 1'000'000'000);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
 
 gpiod_line* request_output(gpiod_chip* chip, const StrobeConfig& c, int offset, const char* role) {
   const std::string where = "GPIO chip '" + c.gpio_chip + "' line " + std::to_string(offset) + " (" + role + ")";
@@ -100,7 +87,7 @@ FireReport GpioStrobe::fire(std::int64_t start_ns) noexcept {
     gpiod_line* line = e.output == StrobeOutput::led ? led_ : trigger_;
     // Sleep to shortly before the edge, then spin: the wake-up's jitter
     // lands in the spin instead of on the line.
-    if (e.target_ns - spin_ns_ > now_ns()) {
+    if (e.target_ns - spin_ns_ > mono_now_ns()) {
       sleep_until_ns(e.target_ns - spin_ns_);
       if (config_.warm_up_write) {
         // Each line gets its present level again: no edge, but the path is warm.
@@ -108,10 +95,10 @@ FireReport GpioStrobe::fire(std::int64_t start_ns) noexcept {
         if (trigger_ != nullptr && gpiod_line_set_value(trigger_, trigger_on_ ? 1 : 0) != 0) report.error = true;
       }
     }
-    while (now_ns() < e.target_ns) {
+    while (mono_now_ns() < e.target_ns) {
     }
     if (gpiod_line_set_value(line, e.on ? 1 : 0) != 0) report.error = true;
-    e.achieved_ns = now_ns();
+    e.achieved_ns = mono_now_ns();
     (e.output == StrobeOutput::led ? led_on_ : trigger_on_) = e.on;
     const std::int64_t late_ns = e.achieved_ns - e.target_ns;
     if (late_ns > late_limit_ns_) ++report.late_edges;

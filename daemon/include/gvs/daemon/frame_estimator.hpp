@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "gvs/daemon/frame_slot.hpp"
+#include "gvs/drivers/frame_slot.hpp"
 #include "gvs/core/estimate.hpp"
 #include "gvs/core/frame.hpp"
 
@@ -24,17 +24,17 @@ class FrameEstimator {
   /// exception from estimate_frame (OpenCV throws cv::Exception on inputs it
   /// rejects) ends here: the frame gets no estimate ("estimator-exception"),
   /// it is counted and the estimator is reset, so the process keeps running.
-  core::VelocityEstimate estimate(const FrameSlot& slot) noexcept;
+  core::VelocityEstimate estimate(const drivers::FrameSlot& slot) noexcept;
   virtual void reset() noexcept = 0;
   /// Bad input frames so far, per reason (dsp::FrameRejectCounters::by_reason).
-  [[nodiscard]] virtual dsp::RejectCounts rejected_frames() const noexcept { return {}; }
+  [[nodiscard]] virtual core::RejectCounts rejected_frames() const noexcept { return {}; }
   /// Frames whose estimation threw (caught by estimate()).
   [[nodiscard]] std::uint64_t estimator_exceptions() const noexcept { return exceptions_; }
   [[nodiscard]] virtual std::string name() const = 0;
 
  protected:
   /// The estimation itself; may throw (estimate() catches).
-  virtual core::VelocityEstimate estimate_frame(const FrameSlot& slot) = 0;
+  virtual core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) = 0;
 
  private:
   std::uint64_t exceptions_ = 0;

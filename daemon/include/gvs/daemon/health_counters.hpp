@@ -7,7 +7,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "gvs/dsp/reject_reason.hpp"
+#include "gvs/core/reject_reason.hpp"
 
 namespace gvs::daemon {
 
@@ -26,7 +26,7 @@ enum class HealthGroup : std::uint8_t { capture, processing, can, exposure, ligh
 enum class HealthShow : std::uint8_t {
   value,    ///< the text with the value
   delta,    ///< the text, then the change since the previous line: "ring overruns 2 (+2)"
-  delta_by_reason,  ///< as delta, then each dsp::RejectReason that occurred: "rejected 3 (+1) [unreadable 1 (+0), ...]"
+  delta_by_reason,  ///< as delta, then each core::RejectReason that occurred: "rejected 3 (+1) [unreadable 1 (+0), ...]"
   nonzero,  ///< the text only when the value is not 0
   hidden,   ///< not in the line (heartbeats for the watchdog, the sender's own tick count)
 };
@@ -94,8 +94,8 @@ struct HealthCounters {
 #define GVS_HEALTH_ATOMIC(name, type, thread, group, show, text, unit, help) std::atomic<type> name{0};
   GVS_HEALTH_COUNTERS(GVS_HEALTH_ATOMIC)
 #undef GVS_HEALTH_ATOMIC
-  /// frames_rejected per dsp::RejectReason (processing thread).
-  std::array<std::atomic<std::uint64_t>, dsp::kRejectReasonCount> frames_rejected_by{};
+  /// frames_rejected per core::RejectReason (processing thread).
+  std::array<std::atomic<std::uint64_t>, core::kRejectReasonCount> frames_rejected_by{};
 };
 
 /// A plain copy of the counters at one moment.
@@ -103,7 +103,7 @@ struct HealthSnapshot {
 #define GVS_HEALTH_VALUE(name, type, thread, group, show, text, unit, help) type name = 0;
   GVS_HEALTH_COUNTERS(GVS_HEALTH_VALUE)
 #undef GVS_HEALTH_VALUE
-  dsp::RejectCounts frames_rejected_by{};
+  core::RejectCounts frames_rejected_by{};
 };
 
 inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
@@ -111,7 +111,7 @@ inline HealthSnapshot snapshot(const HealthCounters& c) noexcept {
 #define GVS_HEALTH_COPY(name, type, thread, group, show, text, unit, help) s.name = c.name.load(std::memory_order_relaxed);
   GVS_HEALTH_COUNTERS(GVS_HEALTH_COPY)
 #undef GVS_HEALTH_COPY
-  for (std::size_t i = 0; i < dsp::kRejectReasonCount; ++i) {
+  for (std::size_t i = 0; i < core::kRejectReasonCount; ++i) {
     s.frames_rejected_by[i] = c.frames_rejected_by[i].load(std::memory_order_relaxed);
   }
   return s;

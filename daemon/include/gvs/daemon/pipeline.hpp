@@ -17,15 +17,15 @@
 #include "gvs/can/sink.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
-#include "gvs/daemon/frame_slot.hpp"
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/frame_slot.hpp"
+#include "gvs/drivers/frame_source.hpp"
 #include "gvs/daemon/health_counters.hpp"
 #include "gvs/daemon/plausibility_gate.hpp"
 #include "gvs/daemon/published_estimate.hpp"
 #include "gvs/daemon/rt.hpp"
 #include "gvs/daemon/seqlock.hpp"
-#include "gvs/daemon/spsc_ring.hpp"
-#include "gvs/daemon/wakeup.hpp"
+#include "gvs/drivers/spsc_ring.hpp"
+#include "gvs/drivers/wakeup.hpp"
 #include "gvs/drivers/strobe.hpp"
 #include "gvs/dsp/exposure_control.hpp"
 
@@ -84,7 +84,7 @@ class WatchdogGate {
 
 class Pipeline {
  public:
-  Pipeline(const DaemonConfig& config, std::unique_ptr<FrameSource> source,
+  Pipeline(const DaemonConfig& config, std::unique_ptr<drivers::FrameSource> source,
            std::unique_ptr<FrameEstimator> estimator, std::unique_ptr<can::CanSink> sink,
            PipelineHooks hooks = {});
   ~Pipeline();
@@ -114,7 +114,7 @@ class Pipeline {
   [[nodiscard]] bool realtime() const noexcept;
   /// Valid after join().
   [[nodiscard]] const SenderRecords& records() const noexcept { return records_; }
-  [[nodiscard]] const FrameSource& source() const noexcept { return *source_; }
+  [[nodiscard]] const drivers::FrameSource& source() const noexcept { return *source_; }
   [[nodiscard]] std::string_view sink_description() const noexcept { return sink_->description(); }
   /// The [light] driver ("none" without one).
   [[nodiscard]] std::string light_description() const { return light_ ? light_->describe() : "none"; }
@@ -134,7 +134,7 @@ class Pipeline {
 
   void capture_loop() noexcept;
   void fire_light() noexcept;
-  void stamp_light(FrameSlot& slot) noexcept;
+  void stamp_light(drivers::FrameSlot& slot) noexcept;
   void processing_loop() noexcept;
   void sender_loop() noexcept;
   void run_thread(ThreadRole role, const ThreadConfig& config);
@@ -143,7 +143,7 @@ class Pipeline {
   can::StatusMsg make_status(const PublishedEstimate& latest, const can::VelocityPair& sent) noexcept;
 
   DaemonConfig config_;
-  std::unique_ptr<FrameSource> source_;
+  std::unique_ptr<drivers::FrameSource> source_;
   std::unique_ptr<FrameEstimator> estimator_;
   std::unique_ptr<can::CanSink> sink_;
   std::unique_ptr<drivers::StrobeDriver> light_;  ///< [light]; fired by the capture thread
@@ -153,9 +153,9 @@ class Pipeline {
   std::size_t lit_count_ = 0;
   PipelineHooks hooks_;
 
-  SpscRing<FrameSlot> ring_;
-  FrameSlot spare_;  ///< where the capture thread puts a frame the full ring has no room for
-  Wakeup frame_ready_;
+  drivers::SpscRing<drivers::FrameSlot> ring_;
+  drivers::FrameSlot spare_;  ///< where the capture thread puts a frame the full ring has no room for
+  drivers::Wakeup frame_ready_;
   Seqlock<PublishedEstimate> latest_;
   Seqlock<core::ExposurePlan> exposure_request_;
   Seqlock<ExposureSettings> exposure_settings_;  ///< written by the main thread (reload)
@@ -176,7 +176,7 @@ class Pipeline {
   std::array<ThreadRtReport, kThreadCount> reports_{};
   std::vector<std::thread> threads_;
   SenderRecords records_;
-  SpscRing<can::SinkEvent> sink_events_;  ///< sender -> main thread (FIFO)
+  drivers::SpscRing<can::SinkEvent> sink_events_;  ///< sender -> main thread (FIFO)
   std::atomic<std::uint64_t> sink_events_lost_{0};
 
   // Sender-thread state, kept between status messages.

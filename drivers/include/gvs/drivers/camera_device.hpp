@@ -1,7 +1,7 @@
 // The seam at libcamera's interface: what gvsd's camera source needs of a
 // camera and nothing more. One implementation drives libcamera 0.0.3
 // (make_libcamera_device, built when libcamera is found); the tests drive a
-// fake with the same behaviour (tests/daemon/fake_camera_device.hpp).
+// fake with the same behaviour (tests/drivers/fake_camera_device.hpp).
 #pragma once
 
 #include <cstddef>
@@ -47,7 +47,9 @@ struct CameraControls {
   std::int64_t frame_duration_us = 16667;
 };
 
-/// One completed request, as libcamera's requestCompleted delivers it.
+/// One completed request, as libcamera's requestCompleted delivers it. Its
+/// buffer (`luma`) stays the application's, unchanged and mapped, until it
+/// is queued again or the camera is closed.
 /// Optional metadata is -1 (timestamp, exposure) or negative (gain) when
 /// the request's metadata did not carry it.
 struct CompletedRequest {
@@ -97,8 +99,12 @@ class CameraDevice {
   /// to `events` until stop().
   virtual void start(const CameraControls& controls, CameraEvents& events) = 0;
   /// Re-queues the request of `buffer_index` (Request::reuse(ReuseBuffers))
-  /// with new controls. Called from CameraEvents::request_completed.
-  /// False when the camera refused it (stopping, gone).
+  /// with new controls, once the buffer's pixels have been read. Called from
+  /// CameraEvents::request_completed or from another thread (libcamera's
+  /// Camera::queueRequest is thread-safe), never for one buffer from two
+  /// threads at once, never concurrently with stop() or close() from
+  /// outside request_completed. False when the camera refused it (stopping,
+  /// gone).
   virtual bool queue(std::uint32_t buffer_index, const CameraControls& controls) noexcept = 0;
   /// Stops streaming; pending requests complete as cancelled before it returns.
   virtual void stop() noexcept = 0;

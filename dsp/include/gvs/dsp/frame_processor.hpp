@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "gvs/dsp/reject_reason.hpp"
+#include "gvs/dsp/vocabulary.hpp"
 #include "gvs/core/estimate.hpp"
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/core/frame.hpp"

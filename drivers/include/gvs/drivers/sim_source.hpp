@@ -1,4 +1,4 @@
-// `sim:SCENARIO` frame source (private to gvsd): the simulator as a 60 fps
+// `sim:SCENARIO` frame source: the simulator as a 60 fps
 // camera in real time. Frame k's exposure starts at base + k/fps on the
 // monotonic clock; the scenario loops.
 #pragma once
@@ -6,14 +6,14 @@
 #include <atomic>
 #include <cstdint>
 
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/frame_source.hpp"
 #include "gvs/drivers/simulator.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 class SimSource final : public FrameSource {
  public:
-  explicit SimSource(const drivers::SimulatorConfig& config);
+  explicit SimSource(const SimulatorConfig& config);
 
   [[nodiscard]] std::string describe() const override;
   [[nodiscard]] core::CameraGeometry geometry() const override { return config_.camera; }
@@ -24,9 +24,9 @@ class SimSource final : public FrameSource {
   [[nodiscard]] bool controls_exposure() const override { return true; }
 
  private:
-  drivers::Simulator sim_;
-  drivers::SimulatorConfig config_;
-  drivers::SimFrame scratch_;  ///< record/truth scratch; its gray points at the slot being filled
+  Simulator sim_;
+  SimulatorConfig config_;
+  SimFrame scratch_;  ///< record/truth scratch; its gray points at the slot being filled
   core::ExposurePlan plan_;     ///< exposure of the next frame (closed loop)
   std::int64_t period_ns_ = 0;
   std::int64_t base_ns_ = -1;  ///< monotonic start of frame 0's exposure
@@ -34,7 +34,4 @@ class SimSource final : public FrameSource {
   std::int64_t render_ns_ = 0; ///< how long a render takes (running estimate)
 };
 
-/// Sleeps until monotonic `t_ns` in short steps; false if `stop` was raised.
-bool sleep_until_or_stop(std::int64_t t_ns, const std::atomic<bool>& stop) noexcept;
-
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

@@ -1,16 +1,15 @@
-// Where frames come from: `sim:SCENARIO`, `replay:DIR`, `libcamera[:ID]`.
+// Where frames come from: the simulator (sim_source.hpp), a dataset
+// (replay_source.hpp), a camera (libcamera_source.hpp). gvsd chooses and
+// builds one from its configuration (gvs/daemon/source_factory.hpp).
 #pragma once
 
 #include <atomic>
-#include <memory>
 #include <string>
 
-#include "gvs/daemon/frame_slot.hpp"
+#include "gvs/drivers/frame_slot.hpp"
 #include "gvs/core/frame.hpp"
 
-namespace gvs::daemon {
-
-struct DaemonConfig;
+namespace gvs::drivers {
 
 enum class SourceStatus {
   frame,  ///< the slot holds a new frame
@@ -56,15 +55,4 @@ class FrameSource {
   [[nodiscard]] virtual std::string health_text() const { return {}; }
 };
 
-/// Builds the source named by `config.source_uri`. Throws std::runtime_error
-/// (unknown scheme, missing dataset, unknown scenario, no camera) with a
-/// message saying what to do.
-std::unique_ptr<FrameSource> make_frame_source(const DaemonConfig& config);
-
-/// The checks make_frame_source runs before it opens a camera: the URI, the
-/// simulator's settings, scenario and ground photo, the replay dataset's
-/// index and memory limit, the libcamera settings. Returns the frames'
-/// geometry; throws std::runtime_error with make_frame_source's message.
-core::CameraGeometry check_frame_source(const DaemonConfig& config);
-
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

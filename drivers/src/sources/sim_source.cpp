@@ -1,16 +1,16 @@
 // `sim:SCENARIO`: the simulator as a camera. It loops the scenario, renders
 // straight into the ring slot's preallocated pixels and delivers each frame
 // at the end of its exposure, paced in real time at the frame rate.
-#include "sim_source.hpp"
+#include "gvs/drivers/sim_source.hpp"
 
 #include <sstream>
 #include <stdexcept>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
-SimSource::SimSource(const drivers::SimulatorConfig& config) : sim_(config), config_(config) {
+SimSource::SimSource(const SimulatorConfig& config) : sim_(config), config_(config) {
   period_ns_ = static_cast<std::int64_t>(1e9 / config.fps);
   plan_.exposure_us = config.exposure_us;
   // Render one frame now so every buffer inside the simulator and the scratch
@@ -75,7 +75,7 @@ SourceStatus SimSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noe
   slot.view.index = k;
   slot.view.t_ns = exposure_start_ns;
   slot.view.exposure = plan_;
-  const drivers::TruthRecord& t = scratch_.truth;
+  const TruthRecord& t = scratch_.truth;
   slot.truth.known = true;
   slot.truth.vx_mps = t.vx_mps;
   slot.truth.vy_mps = t.vy_mps;
@@ -94,14 +94,4 @@ void SimSource::set_exposure(const core::ExposurePlan& plan) noexcept {
   }
 }
 
-bool sleep_until_or_stop(std::int64_t t_ns, const std::atomic<bool>& stop) noexcept {
-  constexpr std::int64_t kChunkNs = 50 * kNsPerMs;  // notice a stop request within 50 ms
-  for (;;) {
-    if (stop.load(std::memory_order_relaxed)) return false;
-    const std::int64_t now = mono_now_ns();
-    if (now >= t_ns) return true;
-    sleep_until_ns(t_ns - now > kChunkNs ? now + kChunkNs : t_ns);
-  }
-}
-
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

@@ -1,4 +1,4 @@
-// `replay:DIR` frame source (private to gvsd): a gvs-dataset played back at
+// `replay:DIR` frame source: a gvs-dataset played back at
 // the pace of its timestamps. The frames are decoded into memory at start-up
 // (PNG decoding allocates), so the capture thread only copies pixels.
 #pragma once
@@ -7,14 +7,15 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
 
-#include "gvs/daemon/frame_source.hpp"
+#include "gvs/drivers/frame_source.hpp"
 #include "gvs/drivers/dataset.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 class ReplaySource final : public FrameSource {
  public:
@@ -33,16 +34,21 @@ class ReplaySource final : public FrameSource {
   void set_exposure(const core::ExposurePlan&) noexcept override {}
   [[nodiscard]] bool controls_exposure() const override { return false; }
 
+  /// One line per frame that could not be loaded and will get no estimate
+  /// ("frame 12 gets no estimate: ..."), for the caller's log.
+  [[nodiscard]] const std::vector<std::string>& load_warnings() const noexcept { return load_warnings_; }
+
  private:
   std::filesystem::path folder_;
   core::CameraGeometry geometry_;
-  std::vector<drivers::FrameRecord> records_;
+  std::vector<FrameRecord> records_;
   std::vector<cv::Mat> frames_;
-  std::vector<std::optional<dsp::RejectReason>> defects_;  ///< per frame: none, unreadable or wrong_size
+  std::vector<std::optional<core::RejectReason>> defects_;  ///< per frame: none, unreadable or wrong_size
   std::vector<FrameTruth> truth_;
+  std::vector<std::string> load_warnings_;
   double fps_ = 0.0;
   std::size_t next_ = 0;
   std::int64_t base_ns_ = -1;  ///< monotonic time of the dataset's first t_ns
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

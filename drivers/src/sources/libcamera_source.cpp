@@ -1,21 +1,27 @@
-// `libcamera[:ID]`: see gvs/daemon/libcamera_source.hpp for the threads.
-#include "gvs/daemon/libcamera_source.hpp"
+// `libcamera[:ID]`: see gvs/drivers/libcamera_source.hpp for the threads.
+#include "gvs/drivers/libcamera_source.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <chrono>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
-#include "gvs/daemon/clock.hpp"
-#include "gvs/daemon/health_counters.hpp"
+#include "gvs/drivers/clock.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 namespace {
 
-std::uint64_t pack(const drivers::CameraControls& c) {
+/// Counters have one writing thread each: no read-modify-write needed.
+void bump(std::atomic<std::uint64_t>& c, std::uint64_t by = 1) noexcept {
+  c.store(c.load(std::memory_order_relaxed) + by, std::memory_order_relaxed);
+}
+
+std::uint64_t pack(const CameraControls& c) {
   return static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.exposure_us)) |
          (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(c.analogue_gain)) << 32U);
 }
@@ -37,30 +43,30 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
                            ". Set [source] uri = \"libcamera:<one of them>\", or \"libcamera\" for the first");
 }
 
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s) {
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s) {
   return camera_controls_for(plan, s, s.exposure_max_us);
 }
 
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
                                             double exposure_max_us) {
   const double period_us = 1e6 / s.fps;
   const double longest_us = std::max(s.exposure_min_us, std::min(exposure_max_us, 0.9 * period_us));
   const double exposure_us = std::clamp(plan.exposure_us, s.exposure_min_us, longest_us);
   const double gain = std::clamp(s.gain_min * exposure_max_us / exposure_us, s.gain_min, s.gain_max);
-  drivers::CameraControls c;
+  CameraControls c;
   c.exposure_us = static_cast<std::int32_t>(std::lround(exposure_us));
   c.analogue_gain = static_cast<float>(gain);
   c.frame_duration_us = std::llround(period_us);
   return c;
 }
 
-LibcameraSource::LibcameraSource(std::unique_ptr<drivers::CameraDevice> device, const LibcameraSettings& settings)
+LibcameraSource::LibcameraSource(std::unique_ptr<CameraDevice> device, const LibcameraSettings& settings)
     : device_(std::move(device)),
       settings_(settings),
-      handoff_(std::vector<Handoff>(static_cast<std::size_t>(std::max(2, settings.buffer_count)))) {
+      // Room for every buffer of a stream, and as many again from a stream a restart retired.
+      completed_(std::vector<Completed>(2 * static_cast<std::size_t>(std::max(2, settings.buffer_count)))),
+      copied_(std::vector<Copied>(2 * static_cast<std::size_t>(std::max(2, settings.buffer_count)))) {
   period_ns_ = static_cast<std::int64_t>(1e9 / settings_.fps);
-  frame_bytes_ = static_cast<std::size_t>(settings_.camera.width_px) * static_cast<std::size_t>(settings_.camera.height_px);
-  for (Handoff& h : handoff_.slots_for_setup()) h.pixels.assign(frame_bytes_, 0);
   plan_.exposure_us = settings_.exposure_initial_us;
   exposure_max_us_.store(settings_.exposure_max_us);
   apply_exposure(settings_.exposure_max_us);
@@ -73,18 +79,18 @@ LibcameraSource::~LibcameraSource() {
   quit_.store(true);
   supervisor_wake_.post();
   if (supervisor_.joinable()) supervisor_.join();
-  device_->stop();
+  device_->stop();  // the camera thread's last callbacks return before this does
   device_->close();
 }
 
 void LibcameraSource::open_and_start() {
   device_->open(camera_id_);
-  drivers::CameraStreamRequest want;
+  CameraStreamRequest want;
   want.width_px = settings_.camera.width_px;
   want.height_px = settings_.camera.height_px;
   want.pixel_format = settings_.pixel_format;
   want.buffer_count = settings_.buffer_count;
-  const drivers::CameraStreamInfo got = device_->configure(want);
+  const CameraStreamInfo got = device_->configure(want);
   if (got.width_px != want.width_px || got.height_px != want.height_px ||
       got.stride_bytes < static_cast<std::size_t>(want.width_px)) {
     device_->close();
@@ -93,7 +99,11 @@ void LibcameraSource::open_and_start() {
                              "), not the " + std::to_string(want.width_px) + "x" + std::to_string(want.height_px) +
                              " of [camera] width_px/height_px");
   }
-  new_stream_ = true;  // the camera thread is not running yet: start() happens-before its callbacks
+  // The camera thread is not running yet: start() happens-before its callbacks.
+  stream_generation_ = generation_.load();
+  max_held_ = std::min(std::max(got.buffer_count, 2), static_cast<int>(copied_.capacity() / 2)) - 1;
+  held_.store(0);
+  new_stream_ = true;
   device_->start(current_controls(), *this);
   stream_started_ns_.store(mono_now_ns());
   streaming_.store(true);
@@ -102,7 +112,7 @@ void LibcameraSource::open_and_start() {
 std::string LibcameraSource::describe() const {
   std::ostringstream s;
   s << "libcamera:" << camera_id_ << " (" << device_->describe() << ", " << settings_.camera.width_px << 'x'
-    << settings_.camera.height_px << ' ' << drivers::camera_pixel_format_name(settings_.pixel_format) << ", "
+    << settings_.camera.height_px << ' ' << camera_pixel_format_name(settings_.pixel_format) << ", "
     << settings_.fps << " fps, manual exposure)";
   return s.str();
 }
@@ -112,9 +122,9 @@ void LibcameraSource::prepare(FrameSlot& slot) {
   slot.view.gray.setTo(0);
 }
 
-drivers::CameraControls LibcameraSource::current_controls() const noexcept {
+CameraControls LibcameraSource::current_controls() const noexcept {
   const std::uint64_t p = controls_packed_.load(std::memory_order_acquire);
-  drivers::CameraControls c;
+  CameraControls c;
   c.exposure_us = static_cast<std::int32_t>(static_cast<std::uint32_t>(p & 0xFFFFFFFFU));
   c.analogue_gain = std::bit_cast<float>(static_cast<std::uint32_t>(p >> 32U));
   c.frame_duration_us = std::llround(1e6 / settings_.fps);
@@ -135,9 +145,9 @@ void LibcameraSource::apply_exposure(double exposure_max_us) noexcept {
   controls_packed_.store(pack(camera_controls_for(plan_, settings_, exposure_max_us)), std::memory_order_release);
 }
 
-// ---- camera library's thread: copy, hand over, re-queue; nothing else ----
+// ---- camera library's thread: hand the request over (or re-queue it); no pixel copy ----
 
-void LibcameraSource::request_completed(const drivers::CompletedRequest& done) noexcept {
+void LibcameraSource::request_completed(const CompletedRequest& done) noexcept {
   if (done.cancelled) {
     bump(counters_.requests_cancelled);
     return;  // the camera is stopping: the request is not queued again
@@ -157,33 +167,45 @@ void LibcameraSource::request_completed(const drivers::CompletedRequest& done) n
 
   if (!complete) {
     bump(counters_.requests_incomplete);
-  } else if (Handoff* h = handoff_.try_claim(); h == nullptr) {
-    bump(counters_.handoff_full);
-  } else {
-    for (std::size_t row = 0; row < height; ++row) {
-      std::memcpy(h->pixels.data() + row * width, done.luma + row * done.stride_bytes, width);
-    }
-    h->index = index_base_ + static_cast<std::int64_t>(done.sequence);
-    last_index_ = std::max(last_index_, h->index);
-    h->t_ns = done.sensor_timestamp_ns;
-    h->exposure_us = done.exposure_us;
-    h->analogue_gain = static_cast<double>(done.analogue_gain);
-    h->defect.reset();
-    if (done.exposure_us <= 0) {
-      bump(counters_.no_exposure_metadata);
-      h->defect = dsp::RejectReason::no_exposure_metadata;  // never guess the exposure the speed is measured with
-    }
-    if (done.sensor_timestamp_ns <= last_t_ns_ || done.sensor_timestamp_ns < 0) {
-      bump(counters_.timestamps_backwards);
-      h->defect = dsp::RejectReason::time_backwards;
-    } else {
-      last_t_ns_ = done.sensor_timestamp_ns;
-    }
-    handoff_.publish();
-    bump(counters_.frames_delivered);
-    frame_ready_.post();
+    requeue(done.buffer_index);
+    return;
   }
-  if (!device_->queue(done.buffer_index, current_controls())) bump(counters_.requeue_failures);
+  Completed* c = held_.load(std::memory_order_acquire) < max_held_ ? completed_.try_claim() : nullptr;
+  if (c == nullptr) {
+    bump(counters_.handoff_full);
+    requeue(done.buffer_index);
+    return;
+  }
+  c->buffer_index = done.buffer_index;
+  c->generation = stream_generation_;
+  c->luma = done.luma;
+  c->stride_bytes = done.stride_bytes;
+  c->index = index_base_ + static_cast<std::int64_t>(done.sequence);
+  last_index_ = std::max(last_index_, c->index);
+  c->t_ns = done.sensor_timestamp_ns;
+  c->exposure_us = done.exposure_us;
+  c->defect.reset();
+  if (done.exposure_us <= 0) {
+    bump(counters_.no_exposure_metadata);
+    c->defect = core::RejectReason::no_exposure_metadata;  // never guess the exposure the speed is measured with
+  }
+  if (done.sensor_timestamp_ns <= last_t_ns_ || done.sensor_timestamp_ns < 0) {
+    bump(counters_.timestamps_backwards);
+    c->defect = core::RejectReason::time_backwards;
+  } else {
+    last_t_ns_ = done.sensor_timestamp_ns;
+  }
+  held_.fetch_add(1, std::memory_order_acq_rel);  // only this thread adds: the check above stays true
+  completed_.publish();
+  bump(counters_.frames_delivered);
+  frame_ready_.post();
+}
+
+void LibcameraSource::requeue(std::uint32_t buffer_index) noexcept {
+  // Two threads re-queue (this one, the supervisor): a read-modify-write count.
+  if (!device_->queue(buffer_index, current_controls())) {
+    counters_.requeue_failures.fetch_add(1, std::memory_order_relaxed);
+  }
 }
 
 void LibcameraSource::camera_disconnected() noexcept {
@@ -207,15 +229,26 @@ SourceStatus LibcameraSource::next(FrameSlot& slot, const std::atomic<bool>& sto
   const auto deadline_ns = start_ns + static_cast<std::int64_t>(settings_.stall_periods * static_cast<double>(period_ns_));
   for (;;) {
     if (stop.load(std::memory_order_relaxed)) return SourceStatus::stopped;
-    if (Handoff* h = handoff_.take_oldest(); h != nullptr) {
-      std::memcpy(slot.view.gray.data, h->pixels.data(), frame_bytes_);
-      slot.view.index = h->index;
-      slot.view.t_ns = h->t_ns;
-      slot.view.exposure = core::ExposurePlan{};  // continuous light for the applied time (no strobe sync)
-      slot.view.exposure.exposure_us = h->exposure_us;
-      slot.defect = h->defect;
-      slot.truth = FrameTruth{};
-      handoff_.release();
+    if (const Completed* c = completed_.take_oldest(); c != nullptr) {
+      // Announce the read, then check the stream is still mapped (both
+      // sequentially consistent, against the supervisor's retire_stream():
+      // either it sees the read and waits, or this sees the new generation).
+      copying_.store(true);
+      if (c->generation != generation_.load()) {
+        copying_.store(false, std::memory_order_release);
+        completed_.release();
+        bump(counters_.stale_frames);
+        continue;
+      }
+      deliver(*c, slot);
+      if (Copied* back = copied_.try_claim(); back != nullptr) {
+        back->buffer_index = c->buffer_index;
+        back->generation = c->generation;
+        copied_.publish();
+      }  // never full: it has room for every buffer of two streams
+      copying_.store(false, std::memory_order_release);
+      completed_.release();
+      supervisor_wake_.post();
       last_frame_ns_ = mono_now_ns();
       return SourceStatus::frame;
     }
@@ -235,16 +268,50 @@ SourceStatus LibcameraSource::next(FrameSlot& slot, const std::atomic<bool>& sto
   }
 }
 
-// ---- supervisor thread (not real-time): re-open on a backoff ----
+void LibcameraSource::deliver(const Completed& c, FrameSlot& slot) noexcept {
+  // The one copy of the pixels: the camera's luma rows (stride-aware) into the slot.
+  const auto width = static_cast<std::size_t>(settings_.camera.width_px);
+  for (int row = 0; row < settings_.camera.height_px; ++row) {
+    std::memcpy(slot.view.gray.ptr(row), c.luma + static_cast<std::size_t>(row) * c.stride_bytes, width);
+  }
+  bump(counters_.frames_copied);
+  slot.view.index = c.index;
+  slot.view.t_ns = c.t_ns;
+  slot.view.exposure = core::ExposurePlan{};  // continuous light for the applied time (no strobe sync)
+  slot.view.exposure.exposure_us = c.exposure_us;
+  slot.defect = c.defect;
+  slot.truth = FrameTruth{};
+}
+
+// ---- supervisor thread (not real-time): re-queue, re-open on a backoff ----
+
+void LibcameraSource::requeue_copied() noexcept {
+  while (const Copied* back = copied_.take_oldest()) {
+    const Copied b = *back;
+    copied_.release();
+    // Only this thread changes the generation: a buffer of a retired stream is gone with it.
+    if (b.generation != generation_.load(std::memory_order_relaxed)) continue;
+    requeue(b.buffer_index);
+    held_.fetch_sub(1, std::memory_order_acq_rel);  // after the queue: at least one request stays in the camera
+  }
+}
+
+void LibcameraSource::retire_stream() noexcept {
+  streaming_.store(false);
+  generation_.fetch_add(1);  // from now on next() leaves this stream's buffers unread
+  device_->stop();           // the camera thread's last callbacks return before this does
+  while (copying_.load()) std::this_thread::sleep_for(std::chrono::microseconds(50));  // a copy in progress
+  requeue_copied();          // drops what the capture thread gave back from the retired stream
+  device_->close();          // unmaps its buffers
+}
 
 void LibcameraSource::supervise() noexcept {
   const auto retry_ns = static_cast<std::int64_t>(settings_.retry_interval_ms * 1e6);
   while (!quit_.load()) {
     supervisor_wake_.wait_for(100 * kNsPerMs);
+    requeue_copied();
     if (quit_.load() || !restart_wanted_.load()) continue;
-    streaming_.store(false);
-    device_->stop();
-    device_->close();
+    retire_stream();
     while (!quit_.load()) {
       restart_wanted_.store(false);
       try {
@@ -258,8 +325,13 @@ void LibcameraSource::supervise() noexcept {
           const std::lock_guard<std::mutex> lock(error_mutex_);
           last_error_ = e.what();
         }
-        device_->close();
-        supervisor_wake_.wait_for(retry_ns);
+        retire_stream();  // start() may have delivered frames before it failed
+        // Wait out the backoff; wake-ups from frames copied meanwhile only drain their buffers.
+        const std::int64_t until_ns = mono_now_ns() + retry_ns;
+        for (std::int64_t now = mono_now_ns(); now < until_ns && !quit_.load(); now = mono_now_ns()) {
+          supervisor_wake_.wait_for(until_ns - now);
+          requeue_copied();
+        }
       }
     }
   }
@@ -269,6 +341,8 @@ CameraHealth LibcameraSource::health() const noexcept {
   constexpr auto r = std::memory_order_relaxed;
   CameraHealth h;
   h.frames_delivered = counters_.frames_delivered.load(r);
+  h.frames_copied = counters_.frames_copied.load(r);
+  h.stale_frames = counters_.stale_frames.load(r);
   h.requests_cancelled = counters_.requests_cancelled.load(r);
   h.requests_incomplete = counters_.requests_incomplete.load(r);
   h.sequence_gaps = counters_.sequence_gaps.load(r);
@@ -287,7 +361,7 @@ std::string LibcameraSource::health_text() const {
   const CameraHealth h = health();
   std::ostringstream s;
   s << "camera " << camera_id_ << (h.streaming ? " streaming" : " DOWN") << ": delivered " << h.frames_delivered
-    << ", cancelled " << h.requests_cancelled << ", incomplete " << h.requests_incomplete << ", sequence gaps "
+    << ", copied " << h.frames_copied << ", stale " << h.stale_frames << ", cancelled " << h.requests_cancelled << ", incomplete " << h.requests_incomplete << ", sequence gaps "
     << h.sequence_gaps << ", time backwards " << h.timestamps_backwards << ", no exposure metadata "
     << h.no_exposure_metadata << ", hand-off full " << h.handoff_full << ", requeue failures "
     << h.requeue_failures << ", timeouts " << h.frame_timeouts << ", disconnects " << h.disconnects
@@ -297,4 +371,4 @@ std::string LibcameraSource::health_text() const {
   return s.str();
 }
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

@@ -4,10 +4,10 @@
 #include <cstdint>
 #include <optional>
 
-#include "gvs/dsp/reject_reason.hpp"
+#include "gvs/core/reject_reason.hpp"
 #include "gvs/core/frame.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 /// Ground truth carried along with a frame by sources that know it (the
 /// simulator; replay of a dataset with truth.csv). Vehicle axes, sensor point.
@@ -30,7 +30,7 @@ struct FrameSlot {
   /// Set by the source (or the light check) when it could not deliver a
   /// usable frame (unreadable, wrong size, no exposure time, ...): the frame
   /// gets no estimate, its method names the reason, and it is counted.
-  std::optional<dsp::RejectReason> defect;
+  std::optional<core::RejectReason> defect;
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

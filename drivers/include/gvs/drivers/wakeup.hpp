@@ -10,7 +10,7 @@
 #include <ctime>
 #include <stdexcept>
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 class Wakeup {
  public:
@@ -41,4 +41,4 @@ class Wakeup {
   sem_t sem_{};
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

@@ -1,20 +1,17 @@
-#include "replay_source.hpp"
+#include "gvs/drivers/replay_source.hpp"
 
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
-#include <spdlog/spdlog.h>
+#include "gvs/drivers/clock.hpp"
 
-#include "gvs/daemon/clock.hpp"
-#include "sim_source.hpp"
-
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 namespace {
 
 /// What start-up checks of a dataset's index before it decodes a frame.
-void check_index(const std::filesystem::path& folder, const std::vector<drivers::FrameRecord>& records,
+void check_index(const std::filesystem::path& folder, const std::vector<FrameRecord>& records,
                  const core::CameraGeometry& geometry, double preload_limit_mb) {
   if (records.empty()) throw std::runtime_error(folder.string() + ": the dataset has no frames");
   const double mb = static_cast<double>(records.size()) * geometry.width_px * geometry.height_px / 1048576.0;
@@ -31,17 +28,17 @@ void check_index(const std::filesystem::path& folder, const std::vector<drivers:
 
 core::CameraGeometry ReplaySource::check(const std::filesystem::path& folder, double preload_limit_mb) {
   try {
-    const drivers::DatasetReader reader(folder);
+    const DatasetReader reader(folder);
     check_index(folder, reader.frames(), reader.camera().geometry, preload_limit_mb);
     return reader.camera().geometry;
-  } catch (const drivers::DatasetError& e) {
+  } catch (const DatasetError& e) {
     throw std::runtime_error(std::string("replay: ") + e.what());
   }
 }
 
 ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_limit_mb) : folder_(folder) {
   try {
-    const drivers::DatasetReader reader(folder);
+    const DatasetReader reader(folder);
     geometry_ = reader.camera().geometry;
     records_ = reader.frames();
     check_index(folder, records_, geometry_, preload_limit_mb);
@@ -56,28 +53,31 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_l
       cv::Mat gray;
       try {
         gray = reader.load_gray(i);
-      } catch (const drivers::DatasetError& e) {
-        spdlog::warn("replay: frame {} gets no estimate: {}", records_[i].index, e.what());
-        defects_[i] = dsp::RejectReason::unreadable;
+      } catch (const DatasetError& e) {
+        load_warnings_.push_back("replay: frame " + std::to_string(records_[i].index) +
+                                 " gets no estimate: " + e.what());
+        defects_[i] = core::RejectReason::unreadable;
       }
       if (!defects_[i] && (gray.cols != geometry_.width_px || gray.rows != geometry_.height_px)) {
-        spdlog::warn("replay: frame {} gets no estimate: {} is {}x{} px but camera.json says {}x{}",
-                     records_[i].index, records_[i].file, gray.cols, gray.rows, geometry_.width_px,
-                     geometry_.height_px);
-        defects_[i] = dsp::RejectReason::wrong_size;
+        std::ostringstream msg;
+        msg << "replay: frame " << records_[i].index << " gets no estimate: " << records_[i].file << " is "
+            << gray.cols << 'x' << gray.rows << " px but camera.json says " << geometry_.width_px << 'x'
+            << geometry_.height_px;
+        load_warnings_.push_back(msg.str());
+        defects_[i] = core::RejectReason::wrong_size;
         gray.release();
       }
       if (!defects_[i]) ++good;
       frames_.push_back(std::move(gray));
     }
     if (good == 0) throw std::runtime_error(folder.string() + ": no frame of the dataset could be read");
-    std::unordered_map<std::int64_t, const drivers::TruthRecord*> by_index;
+    std::unordered_map<std::int64_t, const TruthRecord*> by_index;
     for (const auto& t : reader.truth()) by_index[t.index] = &t;
     truth_.resize(records_.size());
     for (std::size_t i = 0; i < records_.size(); ++i) {
       auto it = by_index.find(records_[i].index);
       if (it == by_index.end()) continue;
-      const drivers::TruthRecord& t = *it->second;
+      const TruthRecord& t = *it->second;
       truth_[i] = FrameTruth{true, t.vx_mps, t.vy_mps, t.speed_mps, t.direction_deg.value_or(0.0), t.yaw_rate_dps};
     }
     if (records_.size() >= 2) {
@@ -85,7 +85,7 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double preload_l
       const auto steps = static_cast<double>(records_.back().index - records_.front().index);
       if (span_s > 0.0 && steps > 0.0) fps_ = steps / span_s;
     }
-  } catch (const drivers::DatasetError& e) {
+  } catch (const DatasetError& e) {
     throw std::runtime_error(std::string("replay: ") + e.what());
   }
 }
@@ -105,7 +105,7 @@ void ReplaySource::prepare(FrameSlot& slot) {
 SourceStatus ReplaySource::next(FrameSlot& slot, const std::atomic<bool>& stop) noexcept {
   if (next_ >= records_.size()) return SourceStatus::end;
   const std::size_t i = next_++;
-  const drivers::FrameRecord& rec = records_[i];
+  const FrameRecord& rec = records_[i];
   if (base_ns_ < 0) base_ns_ = mono_now_ns() - (rec.t_ns - records_.front().t_ns);
   const std::int64_t exposure_start_ns = base_ns_ + (rec.t_ns - records_.front().t_ns);
   const auto exposure_ns = static_cast<std::int64_t>(rec.exposure.exposure_us * 1000.0);
@@ -119,4 +119,4 @@ SourceStatus ReplaySource::next(FrameSlot& slot, const std::atomic<bool>& stop) 
   return SourceStatus::frame;
 }
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

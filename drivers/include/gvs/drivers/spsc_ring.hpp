@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 template <typename Slot>
 class SpscRing {
@@ -87,4 +87,4 @@ class SpscRing {
   alignas(kLine) std::atomic<std::uint64_t> tail_{0};  // written by the consumer
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

@@ -1,52 +1,23 @@
-// The libcamera source on the fake camera (tests/daemon/fake_camera_device.hpp):
+// The libcamera source on the fake camera (tests/drivers/fake_camera_device.hpp):
 // camera choice, controls, metadata handling, counters, disappearance and
-// recovery; and its [libcamera] configuration.
+// recovery.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <thread>
 
-#include "fake_camera_device.hpp"
-#include "gvs/daemon/clock.hpp"
-#include "gvs/daemon/config.hpp"
-#include "gvs/daemon/libcamera_source.hpp"
+#include "gvs/drivers/clock.hpp"
+#include "libcamera_rig.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 namespace {
 
 using testing::FakeCamera;
 using testing::FakeCameraDevice;
-
-LibcameraSettings small_settings() {
-  LibcameraSettings s;
-  s.camera = {64, 48, 0.1, 0.0};
-  s.fps = 50.0;
-  s.buffer_count = 3;
-  s.exposure_initial_us = 1000.0;
-  s.exposure_max_us = 3000.0;
-  s.retry_interval_ms = 300.0;  // long enough that a loaded 2-core machine does not look like a silent camera
-  return s;
-}
-
-struct Rig {
-  std::shared_ptr<FakeCamera> cam = std::make_shared<FakeCamera>();
-  std::unique_ptr<LibcameraSource> source;
-  FrameSlot slot;
-  std::atomic<bool> stop{false};
-
-  explicit Rig(const LibcameraSettings& s = small_settings()) {
-    source = std::make_unique<LibcameraSource>(std::make_unique<FakeCameraDevice>(cam), s);
-    source->prepare(slot);
-  }
-  /// The next frame (skipping errors) within `tries` calls.
-  bool frame(int tries = 20) {
-    for (int i = 0; i < tries; ++i) {
-      if (source->next(slot, stop) == SourceStatus::frame) return true;
-    }
-    return false;
-  }
-};
+using testing::LibcameraRig;
+using testing::small_settings;
+using Rig = LibcameraRig;
 
 TEST(LibcameraSource, ChoosesTheFirstCameraOrTheOneNamed) {
   EXPECT_EQ(choose_camera({"a", "b"}, ""), "a");
@@ -82,13 +53,13 @@ TEST(LibcameraSource, NoCameraSaysWhatToCheck) {
 TEST(LibcameraSource, OpensTheCameraByIdWithTheConfiguredStream) {
   LibcameraSettings s = small_settings();
   s.camera_id = "/base/fake/imx296@1a";
-  s.pixel_format = drivers::CameraPixelFormat::r8;
+  s.pixel_format = CameraPixelFormat::r8;
   Rig rig(s);
   EXPECT_EQ(rig.source->camera_id(), s.camera_id);
   EXPECT_EQ(rig.cam->opens.load(), 1);
   EXPECT_EQ(rig.cam->last_request.width_px, 64);
   EXPECT_EQ(rig.cam->last_request.height_px, 48);
-  EXPECT_EQ(rig.cam->last_request.pixel_format, drivers::CameraPixelFormat::r8);
+  EXPECT_EQ(rig.cam->last_request.pixel_format, CameraPixelFormat::r8);
   EXPECT_EQ(rig.cam->last_request.buffer_count, 3);
   EXPECT_NE(rig.source->describe().find("libcamera:/base/fake/imx296@1a"), std::string::npos);
 }
@@ -101,7 +72,7 @@ TEST(LibcameraSource, ExposurePlanBecomesClampedManualControls) {
   s.gain_max = 8.0;
   core::ExposurePlan plan;
   plan.exposure_us = 1500.0;
-  drivers::CameraControls c = camera_controls_for(plan, s);
+  CameraControls c = camera_controls_for(plan, s);
   EXPECT_EQ(c.exposure_us, 1500);
   EXPECT_FLOAT_EQ(c.analogue_gain, 2.0F) << "gain makes up for half the exposure";
   EXPECT_EQ(c.frame_duration_us, 20000) << "FrameDurationLimits from 50 fps";
@@ -210,7 +181,7 @@ TEST(LibcameraSource, BackwardsTimestampIsCountedAndTheFrameGetsNoEstimate) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect == dsp::RejectReason::time_backwards;
+    seen = rig.slot.defect == core::RejectReason::time_backwards;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().timestamps_backwards, 1u);
@@ -225,7 +196,7 @@ TEST(LibcameraSource, MissingExposureMetadataIsNeverGuessed) {
   bool seen = false;
   for (int i = 0; i < 8 && !seen; ++i) {
     ASSERT_TRUE(rig.frame());
-    seen = rig.slot.defect == dsp::RejectReason::no_exposure_metadata;
+    seen = rig.slot.defect == core::RejectReason::no_exposure_metadata;
   }
   EXPECT_TRUE(seen);
   EXPECT_EQ(rig.source->health().no_exposure_metadata, 1u);
@@ -291,26 +262,5 @@ TEST(LibcameraSource, SilentCameraIsRestarted) {
   EXPECT_GE(rig.source->health().frame_timeouts, 3u);
 }
 
-TEST(LibcameraConfig, ReadsTheLibcameraSectionAndChecksIt) {
-  const DaemonConfig c = parse_config(
-      "[libcamera]\nfps = 120\npixel_format = \"R8\"\nbuffer_count = 6\nexposure_min_us = 20\n"
-      "gain_min = 1.5\ngain_max = 4\nstall_periods = 2\nretry_interval_ms = 250\n",
-      "t.toml");
-  EXPECT_DOUBLE_EQ(c.libcamera_fps, 120.0);
-  EXPECT_EQ(c.libcamera_pixel_format, "R8");
-  EXPECT_EQ(c.libcamera_buffer_count, 6);
-  const LibcameraSettings s = libcamera_settings(c, "cam1");
-  EXPECT_EQ(s.camera_id, "cam1");
-  EXPECT_EQ(s.pixel_format, drivers::CameraPixelFormat::r8);
-  const DaemonConfig defaults;  // a named object: GCC 12 misreads a temporary's strings as uninitialised
-  EXPECT_EQ(libcamera_settings(defaults, "").pixel_format, drivers::CameraPixelFormat::yuv420) << "default";
-  EXPECT_DOUBLE_EQ(s.gain_min, 1.5);
-  EXPECT_DOUBLE_EQ(s.exposure_max_us, c.exposure_max_us);
-  EXPECT_DOUBLE_EQ(s.retry_interval_ms, 250.0);
-  EXPECT_THROW((void)parse_config("[libcamera]\npixel_format = \"RGB888\"\n", "t.toml"), ConfigError);
-  EXPECT_THROW((void)parse_config("[libcamera]\ngain_min = 4\ngain_max = 2\n", "t.toml"), ConfigError);
-  EXPECT_THROW((void)parse_config("[libcamera]\nexposure = 2\n", "t.toml"), ConfigError);
-}
-
 }  // namespace
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

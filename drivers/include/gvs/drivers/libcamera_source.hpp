@@ -1,10 +1,24 @@
 // `libcamera[:ID]` frame source: a camera behind the CameraDevice seam
 // (gvs/drivers/camera_device.hpp), libcamera 0.0.3 on the car, a fake in
-// the tests. Completions arrive on the camera library's thread, which only
-// copies the frame into a preallocated lock-free hand-off and re-queues the
-// request; the capture thread's next() takes frames from the hand-off. A
-// supervisor thread (not real-time) re-opens the camera on a backoff when it
-// disappears or stops delivering.
+// the tests. Each frame's pixels are copied once, by the capture thread:
+//
+//   camera thread   request completed: hands the request (buffer index,
+//                   metadata, pointer to the mapped luma plane) to the
+//                   capture thread through a lock-free ring; no pixel copy.
+//   capture thread  next(): copies the luma rows from the camera's buffer
+//                   straight into the frame ring's slot, then hands the
+//                   buffer index to the supervisor.
+//   supervisor      re-queues the copied buffer's request (libcamera's
+//                   queueRequest allocates: never on the capture thread),
+//                   and re-opens the camera on a backoff when it disappears
+//                   or stops delivering.
+//
+// A buffer goes back to the camera only after the copy. The capture side
+// holds at most buffers - 1 of them, so one request always stays queued;
+// a frame completing while it holds that many is re-queued at once unread
+// (counted: hand-off full). Before the supervisor stops and unmaps a stream
+// it retires the stream's generation and waits for a copy in progress to
+// end; requests of a retired generation still waiting are dropped unread.
 #pragma once
 
 #include <atomic>
@@ -16,19 +30,19 @@
 #include <thread>
 #include <vector>
 
-#include "gvs/daemon/frame_source.hpp"
-#include "gvs/daemon/spsc_ring.hpp"
-#include "gvs/daemon/wakeup.hpp"
+#include "gvs/drivers/frame_source.hpp"
+#include "gvs/drivers/spsc_ring.hpp"
+#include "gvs/drivers/wakeup.hpp"
 #include "gvs/drivers/camera_device.hpp"
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
-/// The source's settings ([camera], [exposure] and [libcamera] of gvsd.toml).
+/// The source's settings (gvsd: [camera], [exposure] and [libcamera] of gvsd.toml).
 struct LibcameraSettings {
   std::string camera_id;  ///< empty: the first camera the library lists
   core::CameraGeometry camera;
   double fps = 60.0;
-  drivers::CameraPixelFormat pixel_format = drivers::CameraPixelFormat::yuv420;
+  CameraPixelFormat pixel_format = CameraPixelFormat::yuv420;
   int buffer_count = 4;
   double exposure_initial_us = 3000.0;
   double exposure_min_us = 10.0;    ///< shortest ExposureTime sent
@@ -39,10 +53,6 @@ struct LibcameraSettings {
   double retry_interval_ms = 500.0; ///< re-open backoff; also how long a silent camera may stall before a restart
 };
 
-struct DaemonConfig;
-/// The settings from gvsd's configuration; `camera_id` from the source URI.
-LibcameraSettings libcamera_settings(const DaemonConfig& config, const std::string& camera_id);
-
 /// Picks the camera: `wanted` empty = the first of `ids`. Throws
 /// std::runtime_error naming the cameras present and what to do.
 std::string choose_camera(const std::vector<std::string>& ids, const std::string& wanted);
@@ -52,20 +62,22 @@ std::string choose_camera(const std::vector<std::string>& ids, const std::string
 /// makes up for the shorter exposure (gain_min * exposure_max_us / exposure,
 /// the image brightness stays put) within [gain_min, gain_max];
 /// FrameDurationLimits fixed at 1/fps.
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s);
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s);
 /// The same with `exposure_max_us` in place of s.exposure_max_us (a reloaded value).
-drivers::CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
+CameraControls camera_controls_for(const core::ExposurePlan& plan, const LibcameraSettings& s,
                                             double exposure_max_us);
 
 /// The source's counters (each written by one thread).
 struct CameraHealth {
   std::uint64_t frames_delivered = 0;    ///< frames handed to the capture thread
+  std::uint64_t frames_copied = 0;       ///< frames next() copied out of the camera's buffers (one copy each)
+  std::uint64_t stale_frames = 0;        ///< handed over, then dropped unread: the camera was restarted first
   std::uint64_t requests_cancelled = 0;  ///< Request::RequestCancelled
   std::uint64_t requests_incomplete = 0; ///< buffer not FrameSuccess, or fewer bytes than a frame
   std::uint64_t sequence_gaps = 0;       ///< frames the sensor counted that never arrived
   std::uint64_t timestamps_backwards = 0;///< SensorTimestamp not after the previous one
   std::uint64_t no_exposure_metadata = 0;///< completed without ExposureTime in the metadata
-  std::uint64_t handoff_full = 0;        ///< frames lost because the capture thread was behind
+  std::uint64_t handoff_full = 0;        ///< frames re-queued unread: the capture thread held buffers - 1
   std::uint64_t requeue_failures = 0;
   std::uint64_t disconnects = 0;         ///< camera gone (disconnected / cameraRemoved)
   std::uint64_t frame_timeouts = 0;      ///< next() errors: no frame within stall_periods
@@ -73,11 +85,13 @@ struct CameraHealth {
   bool streaming = false;
 };
 
-class LibcameraSource final : public FrameSource, private drivers::CameraEvents {
+class LibcameraSource final : public FrameSource, private CameraEvents {
  public:
   /// Chooses, opens, configures and starts the camera. Throws
   /// std::runtime_error (no camera, unknown id, mode not available).
-  LibcameraSource(std::unique_ptr<drivers::CameraDevice> device, const LibcameraSettings& settings);
+  LibcameraSource(std::unique_ptr<CameraDevice> device, const LibcameraSettings& settings);
+  /// Stops and closes the camera. Not while next() runs (the capture thread
+  /// has been joined).
   ~LibcameraSource() override;
 
   [[nodiscard]] std::string describe() const override;
@@ -97,38 +111,60 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   [[nodiscard]] const std::string& camera_id() const noexcept { return camera_id_; }
 
  private:
-  struct Handoff {
-    std::vector<std::uint8_t> pixels;  ///< width*height, allocated once
+  /// A completed request on its way to the capture thread: the pixels
+  /// stay in the camera's mapped buffer until next() copies them.
+  struct Completed {
+    std::uint32_t buffer_index = 0;
+    std::uint32_t generation = 0;  ///< the stream it came from
+    const std::uint8_t* luma = nullptr;
+    std::size_t stride_bytes = 0;
     std::int64_t index = 0;
     std::int64_t t_ns = 0;
     double exposure_us = 0.0;
-    double analogue_gain = 0.0;
-    std::optional<dsp::RejectReason> defect;
+    std::optional<core::RejectReason> defect;
+  };
+  /// A buffer next() has copied, on its way back to the camera.
+  struct Copied {
+    std::uint32_t buffer_index = 0;
+    std::uint32_t generation = 0;
   };
 
   // camera library's thread
-  void request_completed(const drivers::CompletedRequest& done) noexcept override;
+  void request_completed(const CompletedRequest& done) noexcept override;
   void camera_disconnected() noexcept override;
-  drivers::CameraControls current_controls() const noexcept;
+  CameraControls current_controls() const noexcept;
   void apply_exposure(double exposure_max_us) noexcept;  // capture thread
 
+  void requeue(std::uint32_t buffer_index) noexcept;  // camera thread or supervisor
+  void deliver(const Completed& c, FrameSlot& slot) noexcept;  // capture thread
+
+  // supervisor (and the constructor / destructor)
   void open_and_start();  // throws
+  void retire_stream() noexcept;
+  void requeue_copied() noexcept;
   void supervise() noexcept;
 
-  std::unique_ptr<drivers::CameraDevice> device_;
+  std::unique_ptr<CameraDevice> device_;
   LibcameraSettings settings_;
   std::string camera_id_;
   std::int64_t period_ns_ = 0;
-  std::size_t frame_bytes_ = 0;
 
-  SpscRing<Handoff> handoff_;
+  SpscRing<Completed> completed_;  ///< camera thread -> capture thread
+  SpscRing<Copied> copied_;        ///< capture thread -> supervisor
+  /// The stream whose buffers may be read; the supervisor advances it before
+  /// it stops and unmaps a stream.
+  std::atomic<std::uint32_t> generation_{0};
+  std::atomic<bool> copying_{false};  ///< next() is reading a camera buffer
+  std::atomic<int> held_{0};          ///< buffers handed over and not yet re-queued
   Wakeup frame_ready_;
   Wakeup supervisor_wake_;
   std::atomic<std::uint64_t> controls_packed_{0};  ///< exposure_us (low 32) | gain float bits (high 32)
   static_assert(std::atomic<double>::is_always_lock_free, "exposure_max_us_ is read on the capture thread");
   std::atomic<double> exposure_max_us_{0.0};  ///< written by the main thread (reload)
 
-  // producer (camera thread) state
+  // camera thread state (set before each start)
+  std::uint32_t stream_generation_ = 0;
+  int max_held_ = 1;  ///< buffers - 1
   bool new_stream_ = true;
   std::int64_t index_base_ = 0;
   std::int64_t last_index_ = -1;
@@ -148,11 +184,11 @@ class LibcameraSource final : public FrameSource, private drivers::CameraEvents 
   std::string last_error_;
 
   struct Counters {
-    std::atomic<std::uint64_t> frames_delivered{0}, requests_cancelled{0}, requests_incomplete{0},
-        sequence_gaps{0}, timestamps_backwards{0}, no_exposure_metadata{0}, handoff_full{0}, requeue_failures{0},
-        disconnects{0}, frame_timeouts{0}, restarts{0};
+    std::atomic<std::uint64_t> frames_delivered{0}, frames_copied{0}, stale_frames{0}, requests_cancelled{0},
+        requests_incomplete{0}, sequence_gaps{0}, timestamps_backwards{0}, no_exposure_metadata{0}, handoff_full{0},
+        requeue_failures{0}, disconnects{0}, frame_timeouts{0}, restarts{0};
   } counters_;
   std::thread supervisor_;
 };
 
-}  // namespace gvs::daemon
+}  // namespace gvs::drivers

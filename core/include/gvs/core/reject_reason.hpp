@@ -7,9 +7,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "gvs/dsp/vocabulary.hpp"
+#include "gvs/core/method.hpp"
 
-namespace gvs::dsp {
+namespace gvs::core {
 
 enum class RejectReason : std::uint8_t {
   wrong_size,            ///< pixels of another size or format than the camera geometry
@@ -22,16 +22,16 @@ enum class RejectReason : std::uint8_t {
 
 struct RejectReasonInfo {
   RejectReason reason;
-  core::Method method;  ///< the estimate's method; its word names the reason in logs
+  Method method;  ///< the estimate's method; its word names the reason in logs
 };
 
 inline constexpr RejectReasonInfo kRejectReasons[] = {
-    {RejectReason::wrong_size, core::Method::wrong_size},
-    {RejectReason::bad_exposure, core::Method::bad_exposure},
-    {RejectReason::time_backwards, core::Method::time_backwards},
-    {RejectReason::unreadable, core::Method::unreadable},
-    {RejectReason::no_light_in_exposure, core::Method::no_light_in_exposure},
-    {RejectReason::no_exposure_metadata, core::Method::no_exposure_metadata},
+    {RejectReason::wrong_size, Method::wrong_size},
+    {RejectReason::bad_exposure, Method::bad_exposure},
+    {RejectReason::time_backwards, Method::time_backwards},
+    {RejectReason::unreadable, Method::unreadable},
+    {RejectReason::no_light_in_exposure, Method::no_light_in_exposure},
+    {RejectReason::no_exposure_metadata, Method::no_exposure_metadata},
 };
 inline constexpr std::size_t kRejectReasonCount = std::size(kRejectReasons);
 
@@ -45,11 +45,11 @@ constexpr bool reject_reasons_in_enum_order() {
 }  // namespace detail
 static_assert(detail::reject_reasons_in_enum_order(), "kRejectReasons must list every RejectReason in enum order");
 
-constexpr core::Method reject_method(RejectReason r) { return kRejectReasons[static_cast<std::size_t>(r)].method; }
+constexpr Method reject_method(RejectReason r) { return kRejectReasons[static_cast<std::size_t>(r)].method; }
 /// The reason's word (the estimates CSV word of its method).
-constexpr const char* reject_word(RejectReason r) { return core::method_word(reject_method(r)); }
+constexpr const char* reject_word(RejectReason r) { return method_word(reject_method(r)); }
 
 /// Frames rejected so far, per reason (index: RejectReason).
 using RejectCounts = std::array<std::uint64_t, kRejectReasonCount>;
 
-}  // namespace gvs::dsp
+}  // namespace gvs::core

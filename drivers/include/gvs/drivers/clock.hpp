@@ -1,11 +1,13 @@
-// Monotonic time in nanoseconds and absolute sleeps (the RT threads' clock).
+// Monotonic time in nanoseconds and absolute sleeps: the clock of frame
+// times and of gvsd's real-time threads.
 #pragma once
 
+#include <atomic>
 #include <cerrno>
 #include <cstdint>
 #include <ctime>
 
-namespace gvs::daemon {
+namespace gvs::drivers {
 
 inline constexpr std::int64_t kNsPerMs = 1'000'000;
 inline constexpr std::int64_t kNsPerS = 1'000'000'000;
@@ -41,4 +43,15 @@ inline void sleep_until_ns(std::int64_t t_ns) noexcept {
   }
 }
 
-}  // namespace gvs::daemon
+/// Sleeps until monotonic `t_ns` in short steps; false if `stop` was raised.
+inline bool sleep_until_or_stop(std::int64_t t_ns, const std::atomic<bool>& stop) noexcept {
+  constexpr std::int64_t kChunkNs = 50 * kNsPerMs;  // notice a stop request within 50 ms
+  for (;;) {
+    if (stop.load(std::memory_order_relaxed)) return false;
+    const std::int64_t now = mono_now_ns();
+    if (now >= t_ns) return true;
+    sleep_until_ns(t_ns - now > kChunkNs ? now + kChunkNs : t_ns);
+  }
+}
+
+}  // namespace gvs::drivers

@@ -5,6 +5,10 @@
 // requests completed as cancelled by stop(), controls applied as the sensor
 // can (exposure rounded to whole 14 us lines, so applied != asked), a
 // disconnect signal when unplugged. Tests script faults through FakeCamera.
+// A completed buffer is the application's until it is queued again: queue()
+// overwrites it at once (0xEE, as the next DMA would) and close() frees it,
+// so a source reading a buffer after giving it back reads 0xEE (and races,
+// for TSan), and one reading it after close reads freed memory (ASan).
 #pragma once
 
 #include <algorithm>
@@ -17,10 +21,10 @@
 #include <thread>
 #include <vector>
 
-#include "gvs/daemon/clock.hpp"
+#include "gvs/drivers/clock.hpp"
 #include "gvs/drivers/camera_device.hpp"
 
-namespace gvs::daemon::testing {
+namespace gvs::drivers::testing {
 
 /// The camera's world, shared by the test and the device.
 struct FakeCamera {
@@ -42,12 +46,13 @@ struct FakeCamera {
   std::atomic<int> opens{0};
   std::atomic<int> starts{0};
   std::atomic<std::uint64_t> queued{0};  ///< requests queued (first queue and re-queues)
+  std::atomic<int> with_app{0};          ///< buffers completed and not yet queued again
   std::mutex seen_mutex;
   std::map<std::uint32_t, int> queue_count_by_buffer;
-  drivers::CameraControls last_controls;
-  drivers::CameraStreamRequest last_request;
+  CameraControls last_controls;
+  CameraStreamRequest last_request;
 
-  drivers::CameraControls seen_controls() {
+  CameraControls seen_controls() {
     const std::lock_guard<std::mutex> lock(seen_mutex);
     return last_controls;
   }
@@ -60,7 +65,7 @@ struct FakeCamera {
   }
 };
 
-class FakeCameraDevice final : public drivers::CameraDevice {
+class FakeCameraDevice final : public CameraDevice {
  public:
   explicit FakeCameraDevice(std::shared_ptr<FakeCamera> world) : w_(std::move(world)) {}
   ~FakeCameraDevice() override { close(); }
@@ -76,7 +81,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
     ++w_->opens;
     open_ = true;
   }
-  drivers::CameraStreamInfo configure(const drivers::CameraStreamRequest& r) override {
+  CameraStreamInfo configure(const CameraStreamRequest& r) override {
     if (!open_) throw std::runtime_error("fake: configure before open");
     request_ = r;
     {
@@ -86,9 +91,10 @@ class FakeCameraDevice final : public drivers::CameraDevice {
     stride_ = static_cast<std::size_t>(r.width_px + w_->stride_padding);
     buffers_.assign(static_cast<std::size_t>(r.buffer_count),
                     std::vector<std::uint8_t>(stride_ * static_cast<std::size_t>(r.height_px), 0xEE));
+    with_app_.assign(buffers_.size(), false);
     return {r.width_px, r.height_px, stride_, r.buffer_count};
   }
-  void start(const drivers::CameraControls& controls, drivers::CameraEvents& events) override {
+  void start(const CameraControls& controls, CameraEvents& events) override {
     if (!w_->present.load()) throw std::runtime_error("fake: camera gone");
     events_ = &events;
     stopping_.store(false);
@@ -97,10 +103,13 @@ class FakeCameraDevice final : public drivers::CameraDevice {
     ++w_->starts;
     thread_ = std::thread([this] { run(); });
   }
-  bool queue(std::uint32_t index, const drivers::CameraControls& controls) noexcept override {
-    if (stopping_.load() || !w_->present.load()) return false;
+  bool queue(std::uint32_t index, const CameraControls& controls) noexcept override {
+    if (stopping_.load() || !w_->present.load() || index >= buffers_.size()) return false;
+    std::fill(buffers_[index].begin(), buffers_[index].end(), std::uint8_t{0xEE});
     {
       const std::lock_guard<std::mutex> lock(mutex_);
+      if (with_app_[index]) --w_->with_app;
+      with_app_[index] = false;
       pending_.push_back({index, controls});
     }
     ++w_->queued;
@@ -118,7 +127,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
       left.swap(pending_);
     }
     for (const Pending& p : left) {  // as libcamera: pending requests complete cancelled
-      drivers::CompletedRequest done;
+      CompletedRequest done;
       done.buffer_index = p.index;
       done.cancelled = true;
       if (events_ != nullptr) events_->request_completed(done);
@@ -127,13 +136,16 @@ class FakeCameraDevice final : public drivers::CameraDevice {
   }
   void close() noexcept override {
     stop();
+    buffers_.clear();  // "unmapped": a later read is a use-after-free
+    buffers_.shrink_to_fit();
+    w_->with_app = 0;
     open_ = false;
   }
 
  private:
   struct Pending {
     std::uint32_t index;
-    drivers::CameraControls controls;
+    CameraControls controls;
   };
 
   void run() {
@@ -161,6 +173,8 @@ class FakeCameraDevice final : public drivers::CameraDevice {
         }
         p = pending_.front();
         pending_.pop_front();
+        with_app_[p.index] = true;
+        ++w_->with_app;
       }
       std::vector<std::uint8_t>& buf = buffers_[p.index];
       for (int y = 0; y < request_.height_px; ++y) {
@@ -169,7 +183,7 @@ class FakeCameraDevice final : public drivers::CameraDevice {
               static_cast<std::uint8_t>((x + 3 * y + static_cast<int>(sequence)) & 0x7F);
         }
       }
-      drivers::CompletedRequest done;
+      CompletedRequest done;
       done.buffer_index = p.index;
       done.sequence = sequence++;
       const std::int32_t applied = FakeCamera::applied_exposure_us(p.controls.exposure_us);
@@ -189,14 +203,15 @@ class FakeCameraDevice final : public drivers::CameraDevice {
 
   std::shared_ptr<FakeCamera> w_;
   bool open_ = false;
-  drivers::CameraStreamRequest request_;
+  CameraStreamRequest request_;
   std::size_t stride_ = 0;
   std::vector<std::vector<std::uint8_t>> buffers_;
-  drivers::CameraEvents* events_ = nullptr;
+  std::vector<bool> with_app_;  ///< guarded by mutex_
+  CameraEvents* events_ = nullptr;
   std::mutex mutex_;
   std::deque<Pending> pending_;
   std::atomic<bool> stopping_{false};
   std::thread thread_;
 };
 
-}  // namespace gvs::daemon::testing
+}  // namespace gvs::drivers::testing
