@@ -120,7 +120,7 @@ TEST(EstimatorException, PipelineKeepsRunningAndCountsTheFailures) {
 class DirectionOnlyEstimator final : public FrameEstimator {
  public:
   DirectionOnlyEstimator() : inner_(make_frame_estimator("truth", {})) {}
-  core::VelocityEstimate estimate_frame(const FrameSlot& slot) override {
+  core::VelocityEstimate estimate_frame(const drivers::FrameSlot& slot) override {
     core::VelocityEstimate e = inner_->estimate(slot);
     if (slot.view.index >= 10 && slot.view.index <= 19) {
       e.has_speed = false;
@@ -141,8 +141,8 @@ TEST(EstimatorFailures, ADirectionWithoutSpeedIsCountedApartFromNoEstimate) {
   Pipeline p(testing::unprivileged_config(), std::make_unique<testing::SteadyCamera>(),
              std::make_unique<DirectionOnlyEstimator>(), can::open_sink("candump:" + log));
   p.start();
-  const std::int64_t t0 = mono_now_ns();
-  while (p.latest().estimate.index < 30 && mono_now_ns() - t0 < 10 * kNsPerS) {
+  const std::int64_t t0 = drivers::mono_now_ns();
+  while (p.latest().estimate.index < 30 && drivers::mono_now_ns() - t0 < 10 * drivers::kNsPerS) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   p.request_stop();
