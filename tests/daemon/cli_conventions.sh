@@ -43,6 +43,8 @@ expect 0 "Usage: gvsd" "$gvsd" --help
 
 # 3. Numbers: "not a number" first; zero and negative durations and seeds refused.
 expect 2 "'abc' is not a number" "$gvs" sim --scenario sine --out "$work/x" --seconds abc
+expect 2 "'abc' is not a number" "$gvsd" --run-for abc
+expect 2 "0 is not above 0" "$gvsd" --run-for 0
 expect 2 "0 is not above 0" "$gvs" sim --scenario sine --out "$work/x" --seconds 0
 expect 2 "-2 is not above 0" "$gvs" sim --scenario sine --out "$work/x" --seconds -2
 expect 2 "'-3' is not a seed" "$gvs" sim --scenario sine --out "$work/x" --seed -3

@@ -15,6 +15,7 @@
 
 #include "gvs/can/sink.hpp"
 #include "gvs/drivers/clock.hpp"
+#include "gvs/daemon/command_line.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/config_keys.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
@@ -256,7 +257,7 @@ int gvsd_main(int argc, char** argv) {
   app.add_option("--source", cli.source_uri, "frame source: sim:SCENARIO | replay:DIR | libcamera[:ID] (default sim:sine)");
   app.add_option("--can", cli.can_uri, "CAN output: socketcan:IFACE | candump:PATH ('-' = stdout) (default candump:-)");
   app.add_option("--run-for", cli.run_for_s, "stop after this many seconds (exactly that many CAN periods)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   app.add_flag("--check-config", cli.check_only,
                "check the configuration as start-up does (every key, type and range; source, estimator, CAN "
                "URI) without opening a device, print a summary and exit: 0 = OK, 1 = refused, saying why");

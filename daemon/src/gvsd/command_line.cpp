@@ -1,4 +1,4 @@
-#include "usage.hpp"
+#include "gvs/daemon/command_line.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/version.hpp"
 
-namespace gvs::cli {
+namespace gvs::daemon {
 
 namespace {
 
@@ -149,4 +149,4 @@ std::string version_text(const std::string& program) {
   return program + " " + GVS_VERSION + " (" + GVS_GIT_COMMIT + ")";
 }
 
-}  // namespace gvs::cli
+}  // namespace gvs::daemon
