@@ -344,7 +344,7 @@ TEST(Health, LineCarriesTheCounters) {
   const std::string line = format_health_line(now, prev, latest, 0, 5.0);
   EXPECT_NE(line.find("capture 300 frames (60.0 fps)"), std::string::npos) << line;
   EXPECT_NE(line.find("ring overruns 2 (+2)"), std::string::npos) << line;
-  EXPECT_NE(line.find("dropped 3"), std::string::npos) << line;
+  EXPECT_NE(line.find("source dropped 3"), std::string::npos) << line;
   EXPECT_NE(line.find("late wake-ups 4"), std::string::npos) << line;
   EXPECT_NE(line.find("send errors 1"), std::string::npos) << line;
   EXPECT_NE(line.find("no estimate 7"), std::string::npos) << line;

@@ -30,6 +30,20 @@ std::string SimSource::describe() const {
   return s.str();
 }
 
+std::string SimSource::health_text() const {
+  const double render_ms = static_cast<double>(render_ns_shown_.load(std::memory_order_relaxed)) / 1e6;
+  const double period_ms = static_cast<double>(period_ns_) / 1e6;
+  if (render_ms <= period_ms) return {};
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(1);
+  s << "sim: renders " << render_ms << " ms per frame, ";
+  s.precision(0);
+  s << 1000.0 / render_ms << " of " << config_.fps
+    << " fps on this machine: the frames it cannot render in time are dropped, as a camera drops them";
+  return s.str();
+}
+
 void SimSource::prepare(FrameSlot& slot) {
   slot.view.gray.create(config_.camera.height_px, config_.camera.width_px, CV_8UC1);
   slot.view.gray.setTo(0);  // touch every page now
@@ -60,6 +74,7 @@ SourceStatus SimSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noe
   const std::int64_t took = mono_now_ns() - t0;
   render_ns_ = (render_ns_ * 7 + took) / 8;
   if (took > render_ns_) render_ns_ = took;  // follow slow-downs at once, speed-ups slowly
+  render_ns_shown_.store(render_ns_, std::memory_order_relaxed);
   if (scratch_.gray.data != slot.view.gray.data) {
     // The simulator replaced the buffer (it should not): copy into the slot.
     if (scratch_.gray.size() != slot.view.gray.size() || scratch_.gray.type() != slot.view.gray.type()) {

@@ -42,8 +42,8 @@ enum class HealthShow : std::uint8_t {
     "frames the source delivered")                                                                                \
   X(ring_overruns, std::uint64_t, capture, capture, delta, "ring overruns {v}", "frames",                           \
     "frames lost because every slot was busy")                                                                    \
-  X(frames_dropped, std::uint64_t, capture, capture, delta, "dropped {v}", "frames",                                \
-    "gaps in the source's frame index")                                                                           \
+  X(frames_dropped, std::uint64_t, capture, capture, delta, "source dropped {v}", "frames",                         \
+    "frames the camera never delivered (gaps in its frame index); gvsd's own losses are ring overruns and skipped") \
   X(source_errors, std::uint64_t, capture, capture, delta, "source errors {v}", "frames",                           \
     "frames the source could not read")                                                                           \
   X(capture_late, std::uint64_t, capture, capture, value, "late {v}", "frames",                                    \
