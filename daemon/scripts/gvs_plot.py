@@ -160,7 +160,7 @@ def main():
     p.add_argument("--describe", action="store_true")
     args = p.parse_args()
     fig = draw(read(args.joined), args.title, args.speed_note)
-    fig.savefig(args.out_png, dpi=90)
+    fig.savefig(args.out_png, dpi=90, format="png")  # the path as given, whatever its suffix
     if args.describe:
         print(json.dumps(describe(fig), indent=1))
 

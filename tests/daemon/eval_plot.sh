@@ -24,6 +24,10 @@ with_yaw=$(tail -n +2 "$work/est.csv" | awk -F, '$7 != "" {n++} END {print n + 0
 PLOT_DESCRIPTION="$work/plot.json" GVS_PLOT_SCRIPT="$work/describe_plot.py" \
   "$gvs" eval "$work/run" "$work/est.csv" --plot "$work/plot.png" --title "crawl" > /dev/null
 [[ $(head -c 8 "$work/plot.png" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || fail "plot is not a PNG"
+# --plot FILE writes FILE as given, also without a .png suffix, and says so.
+out=$("$gvs" eval "$work/run" "$work/est.csv" --plot "$work/plot-no-suffix")
+[[ -f "$work/plot-no-suffix" && ! -e "$work/plot-no-suffix.png" ]] || fail "--plot FILE did not write FILE: $(ls "$work")"
+grep -q "plot written to $work/plot-no-suffix\$" <<<"$out" || fail "the message names another file: $out"
 
 /usr/bin/python3 - "$work/plot.json" "$with_yaw" <<'PY'
 import json, sys
