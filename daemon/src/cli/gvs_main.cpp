@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "gvs/daemon/logging.hpp"
+#include "gvs/drivers/camera_device.hpp"
 #include "usage.hpp"
 
 int main(int argc, char** argv) {
@@ -26,6 +27,12 @@ int main(int argc, char** argv) {
   gvs::cli::register_record(app);
   if (!gvs::cli::check_subcommands(app, argc, argv)) return gvs::cli::kUsageExitCode;
   gvs::daemon::silence_library_logs();
+  // libcamera's warnings and errors as gvs lines; its information lines off.
+  gvs::drivers::route_camera_library_log([](std::string_view level, std::string_view message) {
+    if (level == "DEBUG" || level == "INFO") return;
+    std::fprintf(stderr, "gvs: libcamera %s: %.*s\n", level == "WARN" ? "warning" : "error",
+                 static_cast<int>(message.size()), message.data());
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -13,6 +13,8 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "gvs/drivers/camera_device.hpp"
+
 namespace gvs::daemon {
 
 namespace {
@@ -76,6 +78,15 @@ std::shared_ptr<spdlog::logger> setup_logging(const std::string& level, bool jou
   logger->flush_on(spdlog::level::trace);
   spdlog::set_default_logger(logger);
   silence_library_logs();
+  // libcamera's own lines into this log at their level, without colours.
+  drivers::route_camera_library_log([](std::string_view camera_level, std::string_view message) {
+    auto at = spdlog::level::info;
+    if (camera_level == "DEBUG") at = spdlog::level::debug;
+    if (camera_level == "WARN") at = spdlog::level::warn;
+    if (camera_level == "ERROR") at = spdlog::level::err;
+    if (camera_level == "FATAL") at = spdlog::level::critical;
+    spdlog::log(at, "libcamera: {}", message);
+  });
   return logger;
 }
 

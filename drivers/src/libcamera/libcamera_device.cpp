@@ -5,8 +5,14 @@
 // AeEnable bool; ControlList::get returns std::optional.
 #include <sys/mman.h>
 
+#include <array>
 #include <atomic>
+#include <mutex>
+#include <ostream>
 #include <stdexcept>
+#include <streambuf>
+#include <string>
+#include <string_view>
 
 #include <libcamera/libcamera.h>
 
@@ -221,7 +227,66 @@ class LibcameraDevice final : public CameraDevice {
   std::atomic<bool> started_{false};  ///< read by queue() on the camera thread and gvs's supervisor
 };
 
+/// libcamera writes its log to a std::ostream; this buffer hands each line
+/// to the sink. A line reads "[0:12:34.567890123] [1234]  INFO Camera
+/// camera_manager.cpp:299 libcamera v0.0.3": the level is the word after
+/// the two bracketed fields.
+class LogLines final : public std::streambuf {
+ public:
+  void set_sink(CameraLibraryLog sink) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    sink_ = std::move(sink);
+  }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const char ch = traits_type::to_char_type(c);
+    if (ch == '\n') {
+      emit();
+    } else {
+      line_.push_back(ch);
+    }
+    return c;
+  }
+
+ private:
+  void emit() {
+    static constexpr std::array<std::string_view, 5> kLevels = {" DEBUG ", " INFO ", " WARN ", " ERROR ",
+                                                                " FATAL "};
+    const std::string_view line = line_;
+    std::string_view level = "INFO";
+    std::string_view message = line;
+    for (const std::string_view word : kLevels) {
+      const std::size_t at = line.find(word);
+      if (at == std::string_view::npos) continue;
+      level = word.substr(1, word.size() - 2);
+      message = line.substr(at + word.size());
+      break;
+    }
+    if (sink_) sink_(level, message);
+    line_.clear();
+  }
+
+  std::mutex mutex_;
+  std::string line_;
+  CameraLibraryLog sink_;
+};
+
+LogLines& log_lines() {
+  static LogLines lines;
+  return lines;
+}
+
 }  // namespace
+
+void route_camera_library_log(CameraLibraryLog sink) {
+  if (!sink) return;
+  static std::ostream stream(&log_lines());
+  log_lines().set_sink(std::move(sink));
+  lc::logSetStream(&stream, false);
+}
 
 bool libcamera_available() { return true; }
 

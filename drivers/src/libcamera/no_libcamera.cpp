@@ -7,6 +7,8 @@ namespace gvs::drivers {
 
 bool libcamera_available() { return false; }
 
+void route_camera_library_log(CameraLibraryLog sink) { (void)sink; }
+
 std::unique_ptr<CameraDevice> make_libcamera_device() {
   throw std::runtime_error(
       "this gvs was built without libcamera: install libcamera-dev (apt-get install libcamera-dev, or "

@@ -6,8 +6,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gvs::drivers {
@@ -111,6 +113,15 @@ class CameraDevice {
   /// Unmaps, frees and releases the camera (open() may follow again).
   virtual void close() noexcept = 0;
 };
+
+/// One of libcamera's own log lines: `level` is its word (DEBUG, INFO, WARN,
+/// ERROR, FATAL), `message` the rest after the category, without colours.
+/// libcamera calls it from its own threads.
+using CameraLibraryLog = std::function<void(std::string_view level, std::string_view message)>;
+/// Sends libcamera's log (by default coloured lines on stderr) to `sink`,
+/// line by line; call it before make_libcamera_device. Without libcamera
+/// in the build it does nothing.
+void route_camera_library_log(CameraLibraryLog sink);
 
 /// True when this build has the libcamera implementation.
 bool libcamera_available();
