@@ -9,6 +9,16 @@ work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 "$gvs" sim --scenario sine --seconds 0.2 --width 256 --height 192 --mm-per-px 0.2 --out "$work/run" >/dev/null
 "$gvs" snapshot --dataset "$work/run" --out "$work/snap.png" | tee "$work/out.txt"
 grep -q "direction [+-][0-9]" "$work/out.txt" || { echo "FAIL: no direction in the snapshot's text"; exit 1; }
+# An unreadable frame before the one asked for costs history, not the snapshot;
+# the frame asked for itself must be readable.
+cp -r "$work/run" "$work/broken"
+echo garbage > "$work/broken/frames/000008.png"
+"$gvs" snapshot --dataset "$work/broken" --frame 10 --out "$work/snap10.png" > /dev/null ||
+  { echo "FAIL: an unreadable frame 8 stopped the snapshot of frame 10"; exit 1; }
+if "$gvs" snapshot --dataset "$work/broken" --frame 8 --out "$work/snap8.png" 2> "$work/err8.txt"; then
+  echo "FAIL: a snapshot of the unreadable frame 8 succeeded"; exit 1
+fi
+grep -q "000008.png" "$work/err8.txt" || { echo "FAIL: the error does not name the frame: $(cat "$work/err8.txt")"; exit 1; }
 /usr/bin/python3 - "$work/snap.png" <<'PY'
 import sys
 import matplotlib.image as mpimg

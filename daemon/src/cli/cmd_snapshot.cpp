@@ -164,7 +164,17 @@ void snapshot_from_dataset(const SnapshotOptions& o) {
   for (long i = std::max(0L, target - 5); i <= target; ++i) {
     const drivers::FrameRecord& rec = dataset.frames()[static_cast<std::size_t>(i)];
     core::FrameView v;
-    gray = dataset.load_gray(static_cast<std::size_t>(i));
+    if (i < target) {
+      // An unreadable frame before the one asked for costs history, not
+      // the snapshot (as a dropped frame does in gvsd).
+      try {
+        gray = dataset.load_gray(static_cast<std::size_t>(i));
+      } catch (const std::exception&) {
+        continue;
+      }
+    } else {
+      gray = dataset.load_gray(static_cast<std::size_t>(i));
+    }
     v.gray = gray;
     v.index = rec.index;
     v.t_ns = rec.t_ns;
