@@ -22,16 +22,24 @@ std::string photo_ground(const char* file) {
   return "photo:" + p.string();
 }
 
-class PhotographedGround : public ::testing::TestWithParam<const char*> {};
+class PhotographedGround : public ::testing::TestWithParam<const char*> {
+ protected:
+  /// `scenario`'s first `seconds` with the fixed 3 ms exposure on this
+  /// test's photograph, seed 2, scored (and printed) against the truth.
+  RunScore fixed_exposure_run(const char* scenario, double seconds) const {
+    drivers::SimulatorConfig c;
+    c.scenario = scenario;
+    c.seconds = seconds;
+    c.seed = 2;
+    c.ground = photo_ground(GetParam());
+    RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
+    print_score(GetParam(), s);
+    return s;
+  }
+};
 
 TEST_P(PhotographedGround, FixedExposureAt60KmhIsNeverAStandstillNorAWrongSpeed) {
-  drivers::SimulatorConfig c;
-  c.scenario = "sine";  // 60 km/h: 500 px streaks with 3 ms
-  c.seconds = 0.75;
-  c.seed = 2;
-  c.ground = photo_ground(GetParam());
-  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
-  print_score(GetParam(), s);
+  const RunScore s = fixed_exposure_run("sine", 0.75);  // 60 km/h: 500 px streaks with 3 ms
   const BandScore& b = s.bands[3];  // 60-140 km/h
   ASSERT_GT(b.frames, 30);
   EXPECT_EQ(s.methods.count("still"), 0U);
@@ -47,13 +55,7 @@ TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFra
   // 5-15 km/h with 3 ms: streaks of 40-125 px, which keep little of the
   // ground's texture power (texture SNR 1.5-6 on these photographs) although
   // the frame is well lit. Clear streak ends give the speed, none a wrong one.
-  drivers::SimulatorConfig c;
-  c.scenario = "accel";
-  c.seconds = 2.2;
-  c.seed = 2;
-  c.ground = photo_ground(GetParam());
-  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
-  print_score(GetParam(), s);
+  const RunScore s = fixed_exposure_run("accel", 2.2);
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 20);
   EXPECT_GE(b.speed_coverage(), 0.4);
