@@ -34,7 +34,10 @@ TEST(ExposureControl, AdaptiveAimsAtTheTargetStreakAndHoldsInsideTheBand) {
   ExposurePlan current;  // 3000 us
   // 20 m/s with 3 ms: 600 px streak -> re-plan to 40 px.
   ExposurePlan next = next_exposure(moving(20.0), current, ExposureMode::adaptive, lim);
-  EXPECT_EQ(next.pulse_count, 0u);
+  // One LED strobe (a pulse, so the light may be overdriven) lasting the exposure.
+  ASSERT_EQ(next.pulse_count, 1u);
+  EXPECT_EQ(next.pulses[0].start_us, 0.0);
+  EXPECT_EQ(next.pulses[0].duration_us, next.exposure_us);
   EXPECT_NEAR(streak_px(20.0, next.exposure_us), lim.target_streak_px, 0.5);
   // Speed up by 30 %: streak 65 px, still inside [40, 80]: no change (hysteresis).
   const ExposurePlan held = next_exposure(moving(26.0), next, ExposureMode::adaptive, lim);
@@ -50,6 +53,7 @@ TEST(ExposureControl, AdaptiveAimsAtTheTargetStreakAndHoldsInsideTheBand) {
   // Slow: the exposure is capped at max_exposure_us.
   const ExposurePlan slow = next_exposure(moving(0.3), faster, ExposureMode::adaptive, lim);
   EXPECT_EQ(slow.exposure_us, lim.max_exposure_us);
+  EXPECT_EQ(slow.pulse_count, 0u);  // the longest exposure is continuous light
 }
 
 VelocityEstimate direction_only(Method method, double quality = 0.9) {
@@ -69,7 +73,7 @@ ExposurePlan continuous_us(double t_us) {
 TEST(ExposureControl, AdaptiveShortensWhenTheStreakIsTooLongToMeasure) {
   const ExposurePlan current;  // 3000 us
   const ExposurePlan next = next_exposure(direction_only(Method::streak_cont), current, ExposureMode::adaptive, {});
-  EXPECT_DOUBLE_EQ(next.exposure_us, 750.0);  // 3000 / 4
+  EXPECT_DOUBLE_EQ(next.exposure_us, 1500.0);  // an octave: 3000 / 2
   // A short streak without speed at the longest exposure (a slow car: the
   // frame pairs measure it) does not shorten.
   EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), current, ExposureMode::adaptive, {}).exposure_us, 3000.0);
@@ -78,6 +82,7 @@ TEST(ExposureControl, AdaptiveShortensWhenTheStreakIsTooLongToMeasure) {
 // Dark single-strobe frames: below the texture SNR a streak length needs,
 // a shorter strobe only loses light: the longest exposure (direction from
 // long streaks); up to twice that SNR a too-long streak does not shorten.
+// (Only frames that are not well lit: VelocityEstimate::pixel_snr.)
 TEST(ExposureControl, AdaptiveInTheDarkTakesTheLongestExposure) {
   const ExposureLimits lim;
   VelocityEstimate dark = moving(20.0);  // 500 us: 100 px, but too dark for its length
@@ -88,12 +93,12 @@ TEST(ExposureControl, AdaptiveInTheDarkTakesTheLongestExposure) {
   dark_long.texture_snr = 1.0;
   EXPECT_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
             lim.max_exposure_us);
-  dark_long.texture_snr = 6.0;  // dim: held, not shortened 4x
+  dark_long.texture_snr = 6.0;  // dim: held, not shortened
   EXPECT_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
             lim.max_exposure_us);
-  dark_long.texture_snr = 30.0;  // bright: shortened 4x as in normal light
+  dark_long.texture_snr = 30.0;  // bright: shortened an octave as in normal light
   EXPECT_DOUBLE_EQ(next_exposure(dark_long, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
-                   750.0);
+                   1500.0);
   // Not measured (0, e.g. a pair): the rule does not apply.
   VelocityEstimate fast = moving(20.0);
   EXPECT_LT(next_exposure(fast, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us, 3000.0);
@@ -101,10 +106,16 @@ TEST(ExposureControl, AdaptiveInTheDarkTakesTheLongestExposure) {
 
 TEST(ExposureControl, AdaptiveLengthensWhenTheStreakIsTooShortForADirection) {
   const ExposureLimits lim;
-  const VelocityEstimate short_streak = no_estimate(0, 0, Method::short_streak);
-  // x4 per frame from the measured frame's light time, up to the longest exposure.
+  VelocityEstimate short_streak = no_estimate(0, 0, Method::short_streak);
+  // With a recent speed (the car slowed faster than the plan followed): x4
+  // per frame from the measured frame's light time, up to the longest exposure.
+  short_streak.tracking = true;
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(5.0), ExposureMode::adaptive, lim).exposure_us, 20.0);
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(1000.0), ExposureMode::adaptive, lim).exposure_us,
+                   lim.max_exposure_us);
+  // Without one (the end of a sweep): the sweep starts again from the top.
+  short_streak.tracking = false;
+  EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(5.0), ExposureMode::adaptive, lim).exposure_us,
                    lim.max_exposure_us);
   // Already at the longest exposure: a slow car (the frame pairs measure it).
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
@@ -119,13 +130,83 @@ TEST(ExposureControl, AdaptiveHoldsOnOneTooLongStreakWhileTrackingASpeed) {
   miss.tracking = true;
   EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 220.0);
   miss.tracking = false;
-  EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 55.0);
+  EXPECT_DOUBLE_EQ(next_exposure(miss, continuous_us(220.0), ExposureMode::adaptive, {}).exposure_us, 110.0);
 }
 
 // Frames that move but give no speed (e.g. "blur-*": a cold start's test
 // for a streak end not met) must not hold any exposure for good: every
 // octave is visited, then the sweep starts again from the longest exposure
 // (docs/accuracy.md, "No lock-up without a speed").
+TEST(ExposureControl, AdaptiveOnAWellLitFrameWithFaintStreakEndsIsNotDark) {
+  // Faint ends on a well-lit frame are the ground's low contrast: the
+  // strobe follows the speed instead of falling back to the longest exposure.
+  const ExposureLimits lim;
+  VelocityEstimate faint = moving(20.0);  // 500 us: 100 px
+  faint.texture_snr = 2.0;
+  faint.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 5.0;
+  EXPECT_NEAR(streak_px(20.0, next_exposure(faint, continuous_us(500.0), ExposureMode::adaptive, lim).exposure_us),
+              lim.target_streak_px, 0.5);
+  faint.pixel_snr = VelocityEstimate::kWellLitPixelSnr - 5.0;  // a dark frame
+  EXPECT_EQ(next_exposure(faint, continuous_us(500.0), ExposureMode::adaptive, lim).exposure_us, lim.max_exposure_us);
+}
+
+TEST(ExposureControl, AdaptiveAimsAtALongerStreakOnADimFrame) {
+  // Not well lit, but bright enough for a streak length: the longer strobe
+  // brings more light (below the LED's rated pulse) and a longer axis.
+  const ExposureLimits lim;
+  VelocityEstimate dim = moving(40.0);  // 3000 us: far outside the band
+  dim.texture_snr = 6.0;
+  dim.pixel_snr = VelocityEstimate::kWellLitPixelSnr - 5.0;
+  EXPECT_NEAR(streak_px(40.0, next_exposure(dim, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us),
+              lim.dark_target_streak_px, 0.5);
+  dim.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 5.0;
+  EXPECT_NEAR(streak_px(40.0, next_exposure(dim, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us),
+              lim.target_streak_px, 0.5);
+}
+
+TEST(ExposureControl, AdaptiveLeavesTheLongestExposureWhenAWellLitStreakGivesNoSpeed) {
+  const ExposureLimits lim;
+  VelocityEstimate blurred = direction_only(Method::blur_cont);
+  blurred.texture_snr = 2.0;
+  blurred.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 5.0;
+  const ExposurePlan next = next_exposure(blurred, continuous_us(3000.0), ExposureMode::adaptive, lim);
+  EXPECT_EQ(next.exposure_us, 1500.0);
+  EXPECT_EQ(next.pulse_count, 1u);
+  // Not while a recent speed is tracked (one miss), and not in the dark
+  // (there the longest exposure keeps the direction).
+  blurred.tracking = true;
+  EXPECT_EQ(next_exposure(blurred, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us, 3000.0);
+  blurred.tracking = false;
+  blurred.pixel_snr = VelocityEstimate::kWellLitPixelSnr - 5.0;
+  EXPECT_EQ(next_exposure(blurred, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us, 3000.0);
+}
+
+TEST(ExposureControl, AdaptiveFindsTheOneMeasurableOctaveFromAColdStart) {
+  // A cold start at 15 m/s on ground whose streak is measured only at
+  // 50-70 px (333-467 us): too long above 100 px, a direction without speed
+  // between, no direction below 10 px. The sweep must reach the band, not
+  // cycle over the octaves below it.
+  const ExposureLimits lim;
+  const double v_mps = 15.0;
+  auto estimate_at = [&](double t_us) {
+    const double streak = streak_px(v_mps, t_us);
+    if (streak >= 50.0 && streak <= 70.0) return moving(v_mps);
+    VelocityEstimate e = streak > 100.0  ? direction_only(Method::streak_cont)
+                         : streak < 10.0 ? no_estimate(0, 0, Method::short_streak)
+                                         : direction_only(Method::blur_cont);
+    e.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 10.0;  // well lit
+    return e;
+  };
+  ExposurePlan plan = continuous_us(lim.max_exposure_us);
+  int frames_to_speed = -1;
+  for (int i = 0; i < 40 && frames_to_speed < 0; ++i) {
+    const VelocityEstimate e = estimate_at(plan.exposure_us);
+    if (e.has_speed) frames_to_speed = i;
+    plan = next_exposure(e, plan, ExposureMode::adaptive, lim);
+  }
+  EXPECT_EQ(frames_to_speed, 3);  // 3000, 1500, 750 us, then 375 us: 56 px
+}
+
 TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
   const ExposureLimits lim;
   ExposurePlan plan = continuous_us(750.0);
@@ -154,7 +235,7 @@ TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
   // From the longest exposure, a too-long streak enters the sweep again.
   EXPECT_EQ(next_exposure(direction_only(Method::streak_cont), continuous_us(3000.0), ExposureMode::adaptive, lim)
                 .exposure_us,
-            750.0);
+            1500.0);
 }
 
 // gvsd measures a frame while the next ones are already exposed under the
@@ -168,10 +249,10 @@ TEST(ExposureControl, FramesInFlightDoNotStepTwice) {
   // The next frame, still taken at 750 us, repeats the 375 us plan.
   EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), frame, current, ExposureMode::adaptive, lim).exposure_us,
             375.0);
-  EXPECT_EQ(next_exposure(direction_only(Method::streak_cont), continuous_us(3000.0), continuous_us(750.0),
+  EXPECT_EQ(next_exposure(direction_only(Method::streak_cont), continuous_us(3000.0), continuous_us(1500.0),
                           ExposureMode::adaptive, lim)
                 .exposure_us,
-            750.0);
+            1500.0);
   // At the bottom, a frame still at the shortest octave repeats the restart.
   EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), continuous_us(2.9296875), continuous_us(3000.0),
                           ExposureMode::adaptive, lim)

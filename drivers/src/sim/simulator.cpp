@@ -80,9 +80,18 @@ struct Simulator::Impl {
     calibrate();
   }
 
-  /// LED drive (relative to continuous) times lit time, microseconds.
+  /// LED drive (relative to continuous) times lit time, microseconds. Each
+  /// pulse is overdriven up to the energy of a rated pulse at full overdrive
+  /// (SensorModel::strobe_rated_pulse_us), and never dimmer than continuous.
   [[nodiscard]] double light_dose(const core::ExposurePlan& p) const {
-    return p.lit_time_us() * (p.pulse_count > 0 ? config.sensor.strobe_overdrive : 1.0);
+    if (p.pulse_count == 0) return p.exposure_us;
+    const sim::SensorModel& m = config.sensor;
+    double dose_us = 0.0;
+    for (std::size_t i = 0; i < std::min(p.pulse_count, core::ExposurePlan::kMaxPulses); ++i) {
+      const double t = p.pulses[i].duration_us;
+      dose_us += std::max(t, std::min(m.strobe_overdrive * t, m.strobe_overdrive * m.strobe_rated_pulse_us));
+    }
+    return dose_us;
   }
 
   void light_intervals(std::int64_t index, const core::ExposurePlan& p,

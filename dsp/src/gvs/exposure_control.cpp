@@ -20,6 +20,20 @@ ExposurePlan continuous(double exposure_us) {
   return p;
 }
 
+/// One LED strobe of `lit_us` at the start of the exposure, or the continuous
+/// longest exposure once it reaches that. A strobe is a pulse so that the
+/// light can overdrive the LED (docs/hardware.md, "Light"): a 50 px streak
+/// at 40 m/s lasts 125 us, which in continuous light has 1/24 the photons
+/// of 3 ms.
+ExposurePlan single_strobe(double lit_us, const ExposureLimits& lim) {
+  if (lit_us >= lim.max_exposure_us * 0.99) return continuous(lim.max_exposure_us);
+  ExposurePlan p;
+  p.pulse_count = 1;
+  p.pulses[0] = {0.0, lit_us};
+  p.exposure_us = lit_us;
+  return p;
+}
+
 /// Centre-to-centre time between the first two pulses (0 if not a double pulse).
 double pulse_separation_us(const ExposurePlan& p) {
   if (p.pulse_count < 2) return 0.0;
@@ -97,33 +111,47 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
   // (Only frames that gave a direction: texture, if dim, with its SNR
   // measured. A textureless frame has no SNR to judge the light by, so it
   // keeps the plan.)
-  const bool measured_single = frame.pulse_count == 0 && latest.has_direction && latest.texture_snr > 0.0;
+  // A well-lit frame (pixel SNR, VelocityEstimate::well_lit) is not dark
+  // whatever its texture SNR: faint streak ends there are the ground's own
+  // low contrast, which a longer exposure does not raise.
+  const bool measured_single = frame.pulse_count < 2 && latest.has_direction && latest.texture_snr > 0.0 &&
+                               !latest.well_lit();
   if (measured_single && latest.texture_snr < lim.dark_streak_texture_snr) {
     return continuous(lim.max_exposure_us);
   }
   const bool dim = measured_single && latest.texture_snr < 2.0 * lim.dark_streak_texture_snr;
   if (streak_too_long(latest) && !latest.tracking && !dim) {
-    // Direction without speed: the streak outgrew the frame. Shorten hard.
-    // (While a speed from the last few frames says the streak is in the
-    // band, one such frame is a miss, not a change: hold.)
-    return continuous(std::clamp(t_frame / 4.0, lim.min_pulse_us, lim.max_exposure_us));
+    // Direction without speed: the streak outgrew the frame. Shorten by an
+    // octave, as the sweep below does, so no octave is skipped. (While a
+    // speed from the last few frames says the streak is in the band, one
+    // such frame is a miss, not a change: hold.)
+    return single_strobe(std::clamp(t_frame / 2.0, lim.min_pulse_us, lim.max_exposure_us), lim);
   }
   if (streak_too_short(latest) && t_frame < lim.max_exposure_us * 0.99) {
-    // No direction: a streak of a few pixels. Lengthen hard (x4 against the
-    // /4 above: a 15 px streak lands at 60 px, inside the band).
-    return continuous(std::clamp(t_frame * 4.0, lim.min_pulse_us, lim.max_exposure_us));
+    // No direction: a streak of a few pixels. With a recent speed (the car
+    // slowed faster than the plan followed) lengthen hard: x4 puts a 15 px
+    // streak at 60 px, inside the band. Without one, start the sweep again
+    // from the top: lengthening from where a sweep ended would cycle over
+    // the same few octaves below the one the estimator can measure.
+    if (!latest.tracking) return continuous(lim.max_exposure_us);
+    return single_strobe(std::clamp(t_frame * 4.0, lim.min_pulse_us, lim.max_exposure_us), lim);
   }
-  if (moving_without_speed(latest) && !latest.tracking && t_frame < lim.max_exposure_us * 0.99) {
+  // At the longest exposure a well-lit streak with a direction and no speed
+  // is long, not short (a short one gives Method::short_streak): sweep down.
+  const bool long_unmeasured = latest.has_direction && latest.well_lit();
+  if (moving_without_speed(latest) && !latest.tracking &&
+      (t_frame < lim.max_exposure_us * 0.99 || long_unmeasured)) {
     // A shortened exposure that gives no speed: the streak may be still too
     // long, too short, or too faint for the estimator's stricter start-up
     // test (no earlier speed to search around). Step down an octave per frame
     // and start again from the longest exposure below the shortest pulse:
     // every octave is visited, and one of them puts the streak in the
-    // measurable band. At the longest exposure a short streak means a slow
-    // car (the frame pairs measure it), so the plan is held there; and a
-    // miss while the estimator still tracks a recent speed holds it too.
+    // measurable band. At the longest exposure a frame without a direction
+    // (or a dim one) means a slow car (the frame pairs measure it), so the
+    // plan is held there; and a miss while the estimator still tracks a
+    // recent speed holds it too.
     const double t_next = t_frame / 2.0;
-    return continuous(t_next < lim.min_pulse_us ? lim.max_exposure_us : t_next);
+    return single_strobe(t_next < lim.min_pulse_us ? lim.max_exposure_us : t_next, lim);
   }
   if (latest.quality < lim.min_quality) return current;
   if (latest.has_speed) {
@@ -134,8 +162,10 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
     const bool pinned_long = streak_now < lim.min_streak_px && t_cur >= lim.max_exposure_us;
     const bool pinned_short = streak_now > lim.max_streak_px && t_cur <= lim.min_pulse_us;
     if (single && (in_band || pinned_long || pinned_short)) return current;
-    const double t_new = lim.target_streak_px / std::max(v, 1e-12);
-    return continuous(std::clamp(t_new, lim.min_pulse_us, lim.max_exposure_us));
+    const bool dark = latest.pixel_snr > 0.0 && !latest.well_lit();
+    const double target_px = dark ? lim.dark_target_streak_px : lim.target_streak_px;
+    const double t_new = target_px / std::max(v, 1e-12);
+    return single_strobe(std::clamp(t_new, lim.min_pulse_us, lim.max_exposure_us), lim);
   }
   return current;
 }

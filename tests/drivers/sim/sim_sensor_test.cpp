@@ -116,6 +116,16 @@ TEST(SimSensor, ClosedLoopExposureChangesPhotonsAndGainKeepsTheMean) {
   EXPECT_LT(cv::mean(f.gray)[0], 30.0);
 }
 
+TEST(SimSensor, LongStrobesKeepTheEnergyOfARatedPulse) {
+  // Overdriven 10x up to 200 us; a longer pulse keeps that pulse's energy
+  // (2000 us of continuous light) and is never dimmer than continuous light.
+  // The gain keeps the mean, so the light shows in the shot noise (~1/sqrt).
+  const double n_rated = temporal_noise(strobe(0, 200));
+  EXPECT_NEAR(temporal_noise(strobe(0, 800)) / n_rated, 1.0, 0.08);
+  EXPECT_NEAR(temporal_noise(strobe(0, 100)) / n_rated, std::sqrt(2.0), 0.15);
+  EXPECT_NEAR(temporal_noise(strobe(0, 2800)) / temporal_noise(continuous(2800)), 1.0, 0.08);
+}
+
 TEST(SimSensor, ImpossibleExposurePlansAreRejected) {
   Simulator sim(SimulatorConfig{}, constant_motion_scenario(0.0, 0.0));
   EXPECT_THROW(sim.set_exposure(continuous(0.0)), std::invalid_argument);

@@ -16,7 +16,7 @@ namespace gvs::dsp {
 
 enum class ExposureMode {
   fixed,        ///< keep the current plan unchanged
-  adaptive,     ///< one continuous strobe whose length keeps the streak ~10-80 px
+  adaptive,     ///< one strobe whose length keeps the streak ~40-80 px
   double_pulse  ///< two short pulses; their double image gives the displacement (PIV-like)
 };
 
@@ -37,6 +37,10 @@ struct ExposureLimits {
   /// commit 525e81e).
   double min_streak_px = 40.0;
   double max_streak_px = 80.0;         ///<   [min_streak_px, max_streak_px] (hysteresis band)
+  /// Streak aimed at on a frame that is not well lit (VelocityEstimate::
+  /// well_lit): below the LED's rated pulse (~200 us) a longer strobe
+  /// brings more light, and a longer streak a better-defined axis.
+  double dark_target_streak_px = 70.0;
   /// Dark single-strobe frames: below this texture SNR (the estimator's own
   /// limit for a speed from a streak) a shorter strobe only loses light, so
   /// the controller takes max_exposure_us (direction from long streaks, as
@@ -75,8 +79,10 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 /// (`frame`: the light it was actually taken with) and the plan in force
 /// (`current`: the last one returned; frames still in flight may predate it).
 ///  - fixed: returns `current`.
-///  - adaptive: continuous exposure (pulse_count 0) of T = target_streak_px*s/v,
-///    clamped to [min_pulse_us, max_exposure_us]; unchanged while the streak
+///  - adaptive: one LED strobe (pulse_count 1, the light overdriven) of
+///    T = target_streak_px*s/v (dark_target_streak_px on a frame that is
+///    not well lit), clamped to [min_pulse_us, max_exposure_us]
+///    (continuous light at max_exposure_us); unchanged while the streak
 ///    predicted for `current` stays within [min_streak_px, max_streak_px].
 ///    Without a speed: a streak too long to measure (Method::streak_*)
 ///    gives T_frame/4 unless the estimator is still `tracking` a recent
@@ -88,8 +94,10 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    measure without an earlier speed). Steps start from the frame's light
 ///    time, so frames in flight under an older plan repeat the plan made.
 ///    A dark frame with a direction (texture SNR below
-///    dark_streak_texture_snr) gives max_exposure_us; one below twice that
-///    never shortens the strobe.
+///    dark_streak_texture_snr, and not VelocityEstimate::well_lit) gives
+///    max_exposure_us; one below twice that never shortens the strobe. At
+///    max_exposure_us a well-lit frame with a direction and no speed (a
+///    streak the estimator cannot measure) starts the sweep down.
 ///  - double_pulse: two pulses {0, p} and {dt, p*second_pulse_energy}, dt =
 ///    target_shift_px*s/v, p = b*s/v (>= min_pulse_us), b = max_pulse_blur_px
 ///    px of streak per pulse, or on a dark frame (texture SNR below

@@ -11,8 +11,15 @@ struct SensorModel {
   /// LightLevel::normal. Only the ratio to the read noise and the full well
   /// matters; the gain is set per run so the mean grey hits its target.
   double led_flux_e_per_us = 5.0;
-  /// LED current in strobe (pulse) mode relative to continuous mode.
+  /// LED current in strobe (pulse) mode relative to continuous mode, for
+  /// pulses up to strobe_rated_pulse_us.
   double strobe_overdrive = 10.0;
+  /// Longest pulse the LED takes at full overdrive (pulse ratings: 10-200 us
+  /// at a few % duty). A longer pulse is driven at the current that keeps
+  /// that pulse's energy (the die's heat per pulse), never below the
+  /// continuous current: light = min(overdrive * t, overdrive * rated) for
+  /// t above rated, and at least t.
+  double strobe_rated_pulse_us = 200.0;
   double full_well_e = 10000.0;
   double read_noise_e = 3.0;        ///< RMS, electrons
   double prnu = 0.01;               ///< photo-response non-uniformity, RMS (multiplicative)
