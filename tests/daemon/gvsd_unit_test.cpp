@@ -114,7 +114,7 @@ mm_per_px = 0.2
 mount_yaw_deg = -2.5
 lever_arm_x_m = 1.2
 [estimator]
-method = "thesis"
+method = "thesis-fft"
 [exposure]
 mode = "double-pulse"
 [threads]
@@ -132,7 +132,7 @@ level = "debug"
   EXPECT_EQ(c.camera.mm_per_px, 0.2);
   EXPECT_EQ(c.camera.mount_yaw_deg, -2.5);
   EXPECT_EQ(c.lever_arm_x_m, 1.2);
-  EXPECT_EQ(c.estimator_method, "thesis");
+  EXPECT_EQ(c.estimator_method, "thesis-fft");
   EXPECT_EQ(c.exposure_mode, "double-pulse");
   EXPECT_EQ(c.sender_thread.priority, 95);
   EXPECT_EQ(c.sender_thread.cpu, 1);
@@ -177,6 +177,15 @@ TEST(Config, OutOfRangeNamesKeyAndRange) {
             std::string::npos);
   EXPECT_NE(error_of("[camera]\nmm_per_px = 0\n").find("mm_per_px = 0 is out of range"), std::string::npos);
   EXPECT_NE(error_of("not toml [").find("not valid TOML"), std::string::npos);
+}
+
+// gvsd is built without the thesis's ORB methods (gvs::dsp_orb): its
+// configuration offers the others and refuses those.
+TEST(Config, EstimatorMethodsAreTheDaemonsOwn) {
+  EXPECT_EQ(parse_config("[estimator]\nmethod = \"thesis-laplacian\"\n", "t.toml").estimator_method,
+            "thesis-laplacian");
+  const std::string e = error_of("[estimator]\nmethod = \"thesis-orb\"\n");
+  EXPECT_NE(e.find("one of: gvs, thesis-fft, thesis-laplacian, truth"), std::string::npos) << e;
 }
 
 TEST(Config, MinQualityAndPlausibilityKeysAreRead) {

@@ -154,7 +154,9 @@ const std::array kKeys{
     // [estimator]
     ConfigKey{.section = "estimator", .name = "method", .field = GVS_FIELD(estimator_method),
               .allowed = estimator_methods, .reload = restart,
-              .help = "gvs is the product; thesis* for comparison; truth = the source's ground truth (pipeline tests)"},
+              .help = "gvs is the product; thesis-fft, thesis-laplacian for comparison (the thesis's ORB methods, "
+                      "thesis and thesis-orb, are in the desk tool only: gvs replay --method); truth = the "
+                      "source's ground truth (pipeline tests)"},
     // [exposure]
     ConfigKey{.section = "exposure", .name = "mode", .field = GVS_FIELD(exposure_mode), .allowed = exposure_modes,
               .reload = sighup, .help = "exposure controller"},
