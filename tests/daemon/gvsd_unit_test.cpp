@@ -188,6 +188,14 @@ TEST(Config, EstimatorMethodsAreTheDaemonsOwn) {
   EXPECT_NE(e.find("one of: gvs, thesis-fft, thesis-laplacian, truth"), std::string::npos) << e;
 }
 
+TEST(Config, PrefaultedStackIsAtMostHalfTheStack) {
+  const DaemonConfig c = parse_config("[threads]\nstack_kb = 512\nprefault_stack_kb = 256\n", "t.toml");
+  EXPECT_EQ(c.stack_kb, 512);
+  const std::string e = error_of("[threads]\nstack_kb = 256\n");  // default prefault: 256 KiB
+  EXPECT_NE(e.find("prefault_stack_kb (256) must be at most half of stack_kb (256)"), std::string::npos) << e;
+  EXPECT_NE(error_of("[threads]\nstack_kb = 64\n").find("stack_kb = 64 is out of range"), std::string::npos);
+}
+
 TEST(Config, MinQualityAndPlausibilityKeysAreRead) {
   const DaemonConfig c = parse_config(R"(
 [can]

@@ -63,7 +63,8 @@ void report_realtime(const Pipeline& pipeline, const DaemonConfig& c, int mlock_
                              : mlock_errno == 0 ? "memory locked"
                                                 : fmt::format("mlockall refused: {}", std::strerror(mlock_errno));
   if (rt_ok) {
-    spdlog::info("real-time: {}; {}; stacks prefaulted ({} KiB)", threads, memory, c.prefault_stack_kb);
+    spdlog::info("real-time: {}; {}; stacks of {} KiB, {} KiB prefaulted", threads, memory, c.stack_kb,
+                 c.prefault_stack_kb);
   } else {
     spdlog::warn(
         "real-time set-up incomplete, running anyway: {}; {}. For real-time operation run as root or grant "
@@ -136,6 +137,9 @@ int run(const CommandLine& cli) {
     return 0;
   }
   spdlog::set_level(spdlog::level::from_str(config.log_level));
+  if (const int e = set_thread_memory_defaults(config.stack_kb); e != 0) {
+    spdlog::warn("threads keep the default stack size ({} KiB refused: {})", config.stack_kb, std::strerror(e));
+  }
 
   sigset_t signals;
   sigemptyset(&signals);

@@ -220,6 +220,10 @@ const std::array kKeys{
     // [threads]
     ConfigKey{.section = "threads", .name = "lock_memory", .field = GVS_FIELD(lock_memory), .reload = restart,
               .help = "mlockall(MCL_CURRENT | MCL_FUTURE)"},
+    ConfigKey{.section = "threads", .name = "stack_kb", .field = GVS_FIELD(stack_kb), .min = 128, .max = 16384,
+              .unit = "KiB", .reload = restart,
+              .help = "stack of the threads gvsd and libcamera start (glibc's default is RLIMIT_STACK, 8 MiB, "
+                      "which locked memory makes resident)"},
     ConfigKey{.section = "threads", .name = "prefault_stack_kb", .field = GVS_FIELD(prefault_stack_kb), .min = 0,
               .max = 8192, .unit = "KiB", .reload = restart, .help = "stack touched by each RT thread before its loop"},
     ConfigKey{.section = "threads.capture", .name = "priority", .field = GVS_FIELD(capture_thread.priority), .min = 0,
@@ -279,6 +283,14 @@ void check_gain_order(const DaemonConfig& c) {
   }
 }
 
+void check_prefault_within_stack(const DaemonConfig& c) {
+  if (2 * c.prefault_stack_kb > c.stack_kb) {
+    throw ConfigError(c.origin + ": [threads] prefault_stack_kb (" + std::to_string(c.prefault_stack_kb) +
+                      ") must be at most half of stack_kb (" + std::to_string(c.stack_kb) +
+                      "): the rest is the loops' own frames and the thread's TLS");
+  }
+}
+
 void check_gpio_lines(const DaemonConfig& c) {
   const drivers::StrobeConfig& l = c.light;
   if (l.driver == "gpio" && l.led_line < 0) {
@@ -299,6 +311,7 @@ const std::array kRules{
     ConfigRule{"libcamera", "`gain_min` <= `gain_max`", check_gain_order},
     ConfigRule{"light", "`driver = \"gpio\"` needs `led_line`, and `trigger_line` differs from it",
                check_gpio_lines},
+    ConfigRule{"threads", "`prefault_stack_kb` is at most half of `stack_kb`", check_prefault_within_stack},
 };
 
 /// Reads a key of a config that is not changed: the table's accessor takes a
