@@ -179,6 +179,20 @@ TEST(Config, OutOfRangeNamesKeyAndRange) {
   EXPECT_NE(error_of("not toml [").find("not valid TOML"), std::string::npos);
 }
 
+// Issue #22: the CAN period is configurable from 4 to 100 ms (default 20, as
+// the ECU expects); the simulated camera takes up to 250 fps and beyond.
+TEST(Config, CanPeriodIsFourToOneHundredMilliseconds) {
+  EXPECT_EQ(DaemonConfig{}.period_ms, 20);
+  EXPECT_EQ(parse_config("[can]\nperiod_ms = 4\n", "t.toml").period_ms, 4);
+  EXPECT_EQ(parse_config("[can]\nperiod_ms = 100\n", "t.toml").period_ms, 100);
+  for (const char* bad : {"3", "101", "0"}) {
+    const std::string e = error_of(std::string("[can]\nperiod_ms = ") + bad + "\n");
+    EXPECT_NE(e.find("[can] period_ms = " + std::string(bad) + " is out of range"), std::string::npos) << e;
+    EXPECT_NE(e.find("4 .. 100 ms"), std::string::npos) << e;
+  }
+  EXPECT_EQ(parse_config("[source]\nsim_fps = 250\n", "t.toml").sim_fps, 250.0);
+}
+
 // gvsd is built without the thesis's ORB methods (gvs::dsp_orb): its
 // configuration offers the others and refuses those.
 TEST(Config, EstimatorMethodsAreTheDaemonsOwn) {
