@@ -6,11 +6,11 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "csv_line.hpp"
 #include "gvs/drivers/dataset.hpp"
+#include "gvs/drivers/png_file.hpp"
 
 namespace gvs::drivers {
 
@@ -197,8 +197,11 @@ cv::Mat DatasetReader::load_gray(std::size_t i) const {
   if (!fs::is_regular_file(file)) {
     fail(file, "missing (named by frames.csv, index " + std::to_string(r.index) + ")");
   }
-  cv::Mat raw = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
-  if (raw.empty()) fail(file, "unreadable or truncated image (index " + std::to_string(r.index) + ")");
+  PngRead png = read_png(file.string(), PngPixels::unchanged);
+  if (png.pixels.empty()) {
+    fail(file, "unreadable or truncated image (index " + std::to_string(r.index) + "): " + png.error);
+  }
+  const cv::Mat raw = png.pixels;
   cv::Mat gray;
   if (raw.channels() == 1) {
     gray = raw;

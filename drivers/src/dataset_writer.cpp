@@ -5,9 +5,9 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "gvs/drivers/dataset.hpp"
+#include "gvs/drivers/png_file.hpp"
 
 namespace gvs::drivers {
 
@@ -85,8 +85,8 @@ void DatasetWriter::write_frame(const cv::Mat& gray, FrameRecord record) {
   std::snprintf(name, sizeof name, "frames/%06lld.png", static_cast<long long>(record.index));
   record.file = name;
   const fs::path file = folder_ / record.file;
-  const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 1};
-  if (!cv::imwrite(file.string(), gray, params)) throw DatasetError(file.string() + ": cannot write PNG");
+  const std::string error = write_png(file.string(), gray, 1);
+  if (!error.empty()) throw DatasetError(file.string() + ": " + error);
   frames_csv_ << record.index << ',' << record.file << ',' << record.t_ns << ','
               << format_number(record.exposure.exposure_us, 3) << ',' << format_pulses(record.exposure) << '\n';
   if (!frames_csv_) throw DatasetError((folder_ / "frames.csv").string() + ": write failed (disk full?)");

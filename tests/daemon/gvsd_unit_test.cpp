@@ -114,7 +114,7 @@ mm_per_px = 0.2
 mount_yaw_deg = -2.5
 lever_arm_x_m = 1.2
 [estimator]
-method = "thesis"
+method = "thesis-fft"
 [exposure]
 mode = "double-pulse"
 [threads]
@@ -132,7 +132,7 @@ level = "debug"
   EXPECT_EQ(c.camera.mm_per_px, 0.2);
   EXPECT_EQ(c.camera.mount_yaw_deg, -2.5);
   EXPECT_EQ(c.lever_arm_x_m, 1.2);
-  EXPECT_EQ(c.estimator_method, "thesis");
+  EXPECT_EQ(c.estimator_method, "thesis-fft");
   EXPECT_EQ(c.exposure_mode, "double-pulse");
   EXPECT_EQ(c.sender_thread.priority, 95);
   EXPECT_EQ(c.sender_thread.cpu, 1);
@@ -177,6 +177,37 @@ TEST(Config, OutOfRangeNamesKeyAndRange) {
             std::string::npos);
   EXPECT_NE(error_of("[camera]\nmm_per_px = 0\n").find("mm_per_px = 0 is out of range"), std::string::npos);
   EXPECT_NE(error_of("not toml [").find("not valid TOML"), std::string::npos);
+}
+
+// Issue #22: the CAN period is configurable from 4 to 100 ms (default 20, as
+// the ECU expects); the simulated camera takes up to 250 fps and beyond.
+TEST(Config, CanPeriodIsFourToOneHundredMilliseconds) {
+  EXPECT_EQ(DaemonConfig{}.period_ms, 20);
+  EXPECT_EQ(parse_config("[can]\nperiod_ms = 4\n", "t.toml").period_ms, 4);
+  EXPECT_EQ(parse_config("[can]\nperiod_ms = 100\n", "t.toml").period_ms, 100);
+  for (const char* bad : {"3", "101", "0"}) {
+    const std::string e = error_of(std::string("[can]\nperiod_ms = ") + bad + "\n");
+    EXPECT_NE(e.find("[can] period_ms = " + std::string(bad) + " is out of range"), std::string::npos) << e;
+    EXPECT_NE(e.find("4 .. 100 ms"), std::string::npos) << e;
+  }
+  EXPECT_EQ(parse_config("[source]\nsim_fps = 250\n", "t.toml").sim_fps, 250.0);
+}
+
+// gvsd is built without the thesis's ORB methods (gvs::dsp_orb): its
+// configuration offers the others and refuses those.
+TEST(Config, EstimatorMethodsAreTheDaemonsOwn) {
+  EXPECT_EQ(parse_config("[estimator]\nmethod = \"thesis-laplacian\"\n", "t.toml").estimator_method,
+            "thesis-laplacian");
+  const std::string e = error_of("[estimator]\nmethod = \"thesis-orb\"\n");
+  EXPECT_NE(e.find("one of: gvs, thesis-fft, thesis-laplacian, truth"), std::string::npos) << e;
+}
+
+TEST(Config, PrefaultedStackIsAtMostHalfTheStack) {
+  const DaemonConfig c = parse_config("[threads]\nstack_kb = 512\nprefault_stack_kb = 256\n", "t.toml");
+  EXPECT_EQ(c.stack_kb, 512);
+  const std::string e = error_of("[threads]\nstack_kb = 256\n");  // default prefault: 256 KiB
+  EXPECT_NE(e.find("prefault_stack_kb (256) must be at most half of stack_kb (256)"), std::string::npos) << e;
+  EXPECT_NE(error_of("[threads]\nstack_kb = 64\n").find("stack_kb = 64 is out of range"), std::string::npos);
 }
 
 TEST(Config, MinQualityAndPlausibilityKeysAreRead) {

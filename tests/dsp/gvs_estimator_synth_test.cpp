@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/dsp/vocabulary.hpp"
@@ -69,6 +71,31 @@ TEST(GvsEstimator, IsRegisteredInTheFactory) {
   const std::vector<std::string> names = estimator_names();
   EXPECT_NE(std::find(names.begin(), names.end(), "gvs"), names.end());
   EXPECT_NE(make_gvs(CameraGeometry{}), nullptr);
+}
+
+// This program links gvs::dsp alone, as gvsd does: the thesis's ORB methods
+// are not there, and asking for one says where they are.
+TEST(GvsEstimator, WithoutDspOrbTheOrbMethodsAreAbsentAndSaySo) {
+  const std::vector<std::string> names = estimator_names();
+  EXPECT_EQ(names, (std::vector<std::string>{"gvs", "thesis-fft", "thesis-laplacian"}));
+  for (const char* method : {"thesis", "thesis-orb"}) {
+    EstimatorConfig cfg;
+    cfg.method = method;
+    try {
+      (void)make_estimator(cfg);
+      ADD_FAILURE() << method << " was made without gvs::dsp_orb";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("the desk tool `gvs` has it"), std::string::npos) << e.what();
+    }
+  }
+  EstimatorConfig unknown;
+  unknown.method = "magic";
+  try {
+    (void)make_estimator(unknown);
+    ADD_FAILURE() << "magic was made";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).find("desk tool"), std::string::npos) << e.what();
+  }
 }
 
 struct PairCase {

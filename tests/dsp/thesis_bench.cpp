@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include "gvs/dsp/thesis.hpp"
+#include "gvs/dsp/thesis_orb_methods.hpp"
 #include "thesis_synth.hpp"
 
 namespace {

@@ -8,6 +8,7 @@
 
 #include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/thesis.hpp"
+#include "gvs/dsp/thesis_orb_methods.hpp"
 #include "thesis_synth.hpp"
 
 namespace gvs::dsp {

@@ -28,8 +28,13 @@ for f in ./usr/bin/gvsd ./usr/bin/gvs ./usr/lib/systemd/system/gvsd.service ./us
 done
 depends=$(dpkg-deb -f "$deb" Depends)
 echo "Depends: $depends"
-for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libsystemd0 libspdlog1.10 libgpiod2 systemd procps; do
+for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libpng16-16 libspdlog1.10 libgpiod2 systemd procps; do
   grep -q "$lib" <<<"$depends" || fail "Depends lacks $lib"
+done
+# The lean daemon (issue #22): no image codecs (GDAL, Poppler, HDF5, ... come with
+# them), no libsystemd (gvsd speaks sd_notify itself), no shared toml++.
+for lib in libopencv-imgcodecs libsystemd0 libtomlplusplus; do
+  grep -q "$lib" <<<"$depends" && fail "Depends has $lib"
 done
 dpkg-deb -e "$deb" "$work/control"
 grep -qx /etc/gvsd/gvsd.toml "$work/control/conffiles" || fail "/etc/gvsd/gvsd.toml is not a conffile"

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
 #include "usage.hpp"
@@ -22,6 +21,7 @@
 #include "gvs/eval/replay.hpp"
 #include "gvs/dsp/checkerboard.hpp"
 #include "gvs/drivers/dataset.hpp"
+#include "gvs/drivers/png_file.hpp"
 #include "gvs/dsp/calibration.hpp"
 
 namespace gvs::cli {
@@ -66,8 +66,9 @@ cv::Size parse_inner(const std::string& text) {
 void run_scale(const ScaleOptions& o) {
   check_config_target(o.config, o.create_config);
   const cv::Size inner = parse_inner(o.inner_corners);
-  const cv::Mat gray = cv::imread(o.image, cv::IMREAD_GRAYSCALE);
-  if (gray.empty()) throw std::runtime_error(o.image + ": cannot be read as an image");
+  const drivers::PngRead png = drivers::read_png(o.image, drivers::PngPixels::grey);
+  if (png.pixels.empty()) throw std::runtime_error(o.image + ": " + png.error + " (give the frame as a PNG)");
+  const cv::Mat& gray = png.pixels;
   const auto m = dsp::measure_checkerboard(gray, inner, o.square_mm);
   if (!m) {
     throw std::runtime_error(o.image + ": no checkerboard of " + o.inner_corners +

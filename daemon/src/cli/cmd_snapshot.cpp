@@ -19,7 +19,6 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "commands.hpp"
@@ -27,6 +26,7 @@
 #include "live_source.hpp"
 #include "gvs/dsp/frame_processor.hpp"
 #include "gvs/drivers/dataset.hpp"
+#include "gvs/drivers/png_file.hpp"
 #include "gvs/dsp/frame_check.hpp"
 #include "gvs/core/geometry.hpp"
 #include "gvs/dsp/spectrum.hpp"
@@ -141,7 +141,8 @@ void draw_snapshot(const cv::Mat& gray, const core::VelocityEstimate& e, std::in
     cv::putText(canvas, why_lines[i], cv::Point(8, gray.rows + 50 + kLinePx * static_cast<int>(i + 1)),
                 cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(120, 200, 255), 1, cv::LINE_AA);
   }
-  if (!cv::imwrite(out_file, canvas)) throw std::runtime_error(out_file + ": cannot be written");
+  const std::string error = drivers::write_png(out_file, canvas);
+  if (!error.empty()) throw std::runtime_error(out_file + ": " + error);
   std::printf("%s\n%s\n%s%swrote %s\n", line1.c_str(), line2.c_str(), why.c_str(), why.empty() ? "" : "\n",
               out_file.c_str());
 }

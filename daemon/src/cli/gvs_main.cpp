@@ -7,9 +7,12 @@
 #include "commands.hpp"
 #include "gvs/daemon/logging.hpp"
 #include "gvs/drivers/camera_device.hpp"
+#include "gvs/dsp/thesis_orb_methods.hpp"
 #include "usage.hpp"
 
 int main(int argc, char** argv) {
+  // The desk tool has every method, the thesis's ORB ones too (gvsd has not).
+  gvs::dsp::add_thesis_orb_estimators();
   CLI::App app{"gvs: ground velocity sensor tools (simulate, replay, evaluate, monitor, calibrate, snapshot, record)",
                "gvs"};
   app.set_version_flag("--version", gvs::cli::version_text("gvs"), "Print the version and the git commit, then exit");

@@ -3,7 +3,6 @@
 
 #include <pthread.h>
 #include <signal.h>
-#include <systemd/sd-daemon.h>
 
 #include <cerrno>
 #include <cstring>
@@ -24,6 +23,7 @@
 #include "gvs/daemon/logging.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/daemon/rt.hpp"
+#include "gvs/daemon/service_manager.hpp"
 #include "gvs/daemon/startup_check.hpp"
 #include "gvs/version.hpp"
 
@@ -63,7 +63,8 @@ void report_realtime(const Pipeline& pipeline, const DaemonConfig& c, int mlock_
                              : mlock_errno == 0 ? "memory locked"
                                                 : fmt::format("mlockall refused: {}", std::strerror(mlock_errno));
   if (rt_ok) {
-    spdlog::info("real-time: {}; {}; stacks prefaulted ({} KiB)", threads, memory, c.prefault_stack_kb);
+    spdlog::info("real-time: {}; {}; stacks of {} KiB, {} KiB prefaulted", threads, memory, c.stack_kb,
+                 c.prefault_stack_kb);
   } else {
     spdlog::warn(
         "real-time set-up incomplete, running anyway: {}; {}. For real-time operation run as root or grant "
@@ -86,8 +87,7 @@ void log_sink_events(Pipeline& pipeline) {
 
 /// SIGHUP: re-read the file, apply what can change while running.
 void reload(const CommandLine& cli, DaemonConfig& running, Pipeline& pipeline) {
-  sd_notifyf(0, "RELOADING=1\nMONOTONIC_USEC=%llu",
-             static_cast<unsigned long long>(drivers::mono_now_ns() / 1000));
+  notify_service_manager(fmt::format("RELOADING=1\nMONOTONIC_USEC={}", drivers::mono_now_ns() / 1000));
   if (cli.config_file.empty()) {
     spdlog::info("SIGHUP: no --config file, nothing to reload");
   } else {
@@ -110,7 +110,7 @@ void reload(const CommandLine& cli, DaemonConfig& running, Pipeline& pipeline) {
       spdlog::error("SIGHUP: keeping the running configuration: {}", e.what());
     }
   }
-  sd_notify(0, "READY=1");
+  notify_service_manager("READY=1");
 }
 
 int run(const CommandLine& cli) {
@@ -137,6 +137,9 @@ int run(const CommandLine& cli) {
     return 0;
   }
   spdlog::set_level(spdlog::level::from_str(config.log_level));
+  if (const int e = set_thread_memory_defaults(config.stack_kb); e != 0) {
+    spdlog::warn("threads keep the default stack size ({} KiB refused: {})", config.stack_kb, std::strerror(e));
+  }
 
   sigset_t signals;
   sigemptyset(&signals);
@@ -175,10 +178,10 @@ int run(const CommandLine& cli) {
   }
   report_realtime(*pipeline, config, config.lock_memory ? mlock_errno : 0);
 
-  std::uint64_t watchdog_usec = 0;
-  const bool watchdog = sd_watchdog_enabled(0, &watchdog_usec) > 0 && watchdog_usec > 0;
+  const std::uint64_t watchdog_usec = service_watchdog_usec();
+  const bool watchdog = watchdog_usec > 0;
   const std::int64_t watchdog_every_ns = watchdog ? static_cast<std::int64_t>(watchdog_usec) * 1000 / 2 : 0;
-  sd_notify(0, "READY=1\nSTATUS=starting");
+  notify_service_manager("READY=1\nSTATUS=starting");
   if (watchdog) spdlog::info("systemd watchdog every {} ms (fed while every thread makes progress)", watchdog_usec / 1000);
 
   const std::int64_t started_ns = drivers::mono_now_ns();
@@ -204,7 +207,7 @@ int run(const CommandLine& cli) {
 
     log_sink_events(*pipeline);
     if (watchdog && now >= next_watchdog_ns) {
-      if (watchdog_gate.should_feed(pipeline->progress())) sd_notify(0, "WATCHDOG=1");
+      if (watchdog_gate.should_feed(pipeline->progress())) notify_service_manager("WATCHDOG=1");
       next_watchdog_ns = now + watchdog_every_ns;
     }
     if (now >= next_health_ns) {
@@ -214,14 +217,14 @@ int run(const CommandLine& cli) {
       spdlog::info("{}{}{}", format_health_line(h, last_health, latest, now,
                                                 static_cast<double>(now - last_health_ns) / 1e9),
                    camera.empty() ? "" : " | ", camera);
-      sd_notifyf(0, "STATUS=%s", format_status_text(h, latest, now).c_str());
+      notify_service_manager("STATUS=" + format_status_text(h, latest, now));
       last_health = h;
       last_health_ns = now;
       next_health_ns = now + static_cast<std::int64_t>(config.health_interval_s * 1e9);
     }
   }
 
-  sd_notify(0, "STOPPING=1");
+  notify_service_manager("STOPPING=1");
   const std::int64_t stop_ns = drivers::mono_now_ns();
   pipeline->request_stop();
   pipeline->join();

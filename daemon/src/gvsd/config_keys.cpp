@@ -101,8 +101,9 @@ const std::array kKeys{
               .help = "CAN output: socketcan:IFACE | candump:PATH (--can overrides it)"},
     ConfigKey{.section = "can", .name = "base_id", .field = GVS_FIELD(base_id), .min = 0, .max = 0x7FC, .reload = restart,
               .help = "11-bit CAN ID of GVS_Velocity; GVS_VelocityXY, GVS_Status, GVS_Timing follow", .hex = true},
-    ConfigKey{.section = "can", .name = "period_ms", .field = GVS_FIELD(period_ms), .min = 1, .max = 1000,
-              .unit = "ms", .reload = restart, .help = "velocity messages, on an absolute schedule"},
+    ConfigKey{.section = "can", .name = "period_ms", .field = GVS_FIELD(period_ms), .min = 4, .max = 100,
+              .unit = "ms", .reload = restart,
+              .help = "velocity messages, on an absolute schedule (the ECU expects 20)"},
     ConfigKey{.section = "can", .name = "status_period_ms", .field = GVS_FIELD(status_period_ms), .min = 1,
               .max = 10000, .unit = "ms", .reload = restart, .help = "status and timing messages, a multiple of period_ms"},
     ConfigKey{.section = "can", .name = "staleness_limit_ms", .field = GVS_FIELD(staleness_limit_ms), .min = 1,
@@ -154,7 +155,9 @@ const std::array kKeys{
     // [estimator]
     ConfigKey{.section = "estimator", .name = "method", .field = GVS_FIELD(estimator_method),
               .allowed = estimator_methods, .reload = restart,
-              .help = "gvs is the product; thesis* for comparison; truth = the source's ground truth (pipeline tests)"},
+              .help = "gvs is the product; thesis-fft, thesis-laplacian for comparison (the thesis's ORB methods, "
+                      "thesis and thesis-orb, are in the desk tool only: gvs replay --method); truth = the "
+                      "source's ground truth (pipeline tests)"},
     // [exposure]
     ConfigKey{.section = "exposure", .name = "mode", .field = GVS_FIELD(exposure_mode), .allowed = exposure_modes,
               .reload = sighup, .help = "exposure controller"},
@@ -218,6 +221,10 @@ const std::array kKeys{
     // [threads]
     ConfigKey{.section = "threads", .name = "lock_memory", .field = GVS_FIELD(lock_memory), .reload = restart,
               .help = "mlockall(MCL_CURRENT | MCL_FUTURE)"},
+    ConfigKey{.section = "threads", .name = "stack_kb", .field = GVS_FIELD(stack_kb), .min = 128, .max = 16384,
+              .unit = "KiB", .reload = restart,
+              .help = "stack of the threads gvsd and libcamera start (glibc's default is RLIMIT_STACK, 8 MiB, "
+                      "which locked memory makes resident)"},
     ConfigKey{.section = "threads", .name = "prefault_stack_kb", .field = GVS_FIELD(prefault_stack_kb), .min = 0,
               .max = 8192, .unit = "KiB", .reload = restart, .help = "stack touched by each RT thread before its loop"},
     ConfigKey{.section = "threads.capture", .name = "priority", .field = GVS_FIELD(capture_thread.priority), .min = 0,
@@ -277,6 +284,14 @@ void check_gain_order(const DaemonConfig& c) {
   }
 }
 
+void check_prefault_within_stack(const DaemonConfig& c) {
+  if (2 * c.prefault_stack_kb > c.stack_kb) {
+    throw ConfigError(c.origin + ": [threads] prefault_stack_kb (" + std::to_string(c.prefault_stack_kb) +
+                      ") must be at most half of stack_kb (" + std::to_string(c.stack_kb) +
+                      "): the rest is the loops' own frames and the thread's TLS");
+  }
+}
+
 void check_gpio_lines(const DaemonConfig& c) {
   const drivers::StrobeConfig& l = c.light;
   if (l.driver == "gpio" && l.led_line < 0) {
@@ -297,6 +312,7 @@ const std::array kRules{
     ConfigRule{"libcamera", "`gain_min` <= `gain_max`", check_gain_order},
     ConfigRule{"light", "`driver = \"gpio\"` needs `led_line`, and `trigger_line` differs from it",
                check_gpio_lines},
+    ConfigRule{"threads", "`prefault_stack_kb` is at most half of `stack_kb`", check_prefault_within_stack},
 };
 
 /// Reads a key of a config that is not changed: the table's accessor takes a

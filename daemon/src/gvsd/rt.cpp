@@ -1,5 +1,6 @@
 #include "gvs/daemon/rt.hpp"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -41,6 +42,16 @@ ThreadRtReport setup_this_thread(const ThreadConfig& config, int prefault_stack_
 int lock_all_memory() noexcept {
   if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) return errno;
   return 0;
+}
+
+int set_thread_memory_defaults(int stack_kb) noexcept {
+  (void)mallopt(M_ARENA_MAX, 1);
+  pthread_attr_t attr;
+  if (const int e = pthread_getattr_default_np(&attr); e != 0) return e;
+  int e = pthread_attr_setstacksize(&attr, static_cast<std::size_t>(stack_kb) * 1024U);
+  if (e == 0) e = pthread_setattr_default_np(&attr);
+  pthread_attr_destroy(&attr);
+  return e;
 }
 
 std::string describe(const ThreadRtReport& r, const ThreadConfig& wanted) {

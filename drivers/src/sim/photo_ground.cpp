@@ -12,8 +12,7 @@
 #include <string>
 #include <utility>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "gvs/drivers/png_file.hpp"
 #include "gvs/drivers/sim/ground_spec.hpp"
 #include "hash.hpp"
 
@@ -23,10 +22,9 @@ namespace {
 constexpr std::uint64_t kTileSalt = 0x9407;
 
 cv::Mat load_grey(const std::string& file) {
-  // Checked first so that a missing file is not also reported by OpenCV's own warning.
   std::error_code ec;
   const bool exists = std::filesystem::is_regular_file(file, ec);
-  const cv::Mat grey = exists ? cv::imread(file, cv::IMREAD_GRAYSCALE) : cv::Mat();
+  const cv::Mat grey = exists ? read_png(file, PngPixels::grey).pixels : cv::Mat();
   if (grey.empty())
     throw std::invalid_argument("simulator: ground photo '" + file +
                                 "' is missing or not a readable image; give a seamless square 8-bit grey PNG, "

@@ -85,6 +85,7 @@ struct DaemonConfig {
   ThreadConfig processing_thread{70, -1};
   ThreadConfig sender_thread{90, -1};
   bool lock_memory = true;
+  int stack_kb = 1024;
   int prefault_stack_kb = 256;
 
   // [log]

@@ -29,6 +29,18 @@ void prefault_stack(std::size_t bytes) noexcept;
 /// mlockall(MCL_CURRENT | MCL_FUTURE); returns 0 or errno.
 int lock_all_memory() noexcept;
 
+/// Process-wide, before gvsd starts a thread (mlockall locks every mapping
+/// whole, so address space reserved is memory held):
+///  - one malloc arena for all threads: glibc gives each new thread that
+///    allocates an arena of its own, reserving 64 MiB of address space each;
+///    gvsd's threads do not allocate in their loops, so they need no arena
+///    of their own;
+///  - threads started from here on (gvsd's, libcamera's) get `stack_kb`
+///    stacks, not glibc's default of RLIMIT_STACK (8 MiB), which mlockall
+///    would make resident whole.
+/// Returns 0 or the errno of the stack default (the arena limit cannot fail).
+int set_thread_memory_defaults(int stack_kb) noexcept;
+
 /// "SCHED_FIFO 80 on CPU 1" / "normal scheduling (EPERM: ...)".
 std::string describe(const ThreadRtReport& report, const ThreadConfig& wanted);
 

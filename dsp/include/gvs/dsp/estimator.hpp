@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,11 +36,24 @@ class VelocityEstimator {
   virtual void reset() = 0;
 };
 
-/// Names accepted in EstimatorConfig::method.
+/// Names accepted in EstimatorConfig::method: gvs::dsp's own (gvs,
+/// thesis-fft, thesis-laplacian) and those added with add_estimators().
 std::vector<std::string> estimator_names();
 
 /// Builds the estimator named in `config.method`. Throws std::invalid_argument
-/// naming the method and the allowed names when it is unknown.
+/// naming the method and the allowed names when it is unknown, and saying so
+/// when it is a desk-only method this program was built without.
 std::unique_ptr<VelocityEstimator> make_estimator(const EstimatorConfig& config);
+
+/// A method name and the function that builds its estimator.
+struct EstimatorMaker {
+  const char* name;
+  std::unique_ptr<VelocityEstimator> (*make)(const EstimatorConfig&);
+};
+
+/// Adds methods that live outside gvs::dsp (the thesis's ORB methods in
+/// gvs::dsp_orb: add_thesis_orb_estimators()). Set-up only: call it before
+/// any estimator is made; adding a name again changes nothing.
+void add_estimators(std::span<const EstimatorMaker> makers);
 
 }  // namespace gvs::dsp

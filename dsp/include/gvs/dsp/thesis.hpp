@@ -3,9 +3,11 @@
 // axes (shared/spec/dataset-format.md) and to the real frame interval.
 //
 // Estimators (EstimatorConfig::method):
-//   thesis-orb        ORB frame difference: direction and speed (4.3, 5.1)
 //   thesis-fft        blur axis from the FFT of one frame, no speed (4.5)
 //   thesis-laplacian  speed from the Laplacian's standard deviation (5.3)
+// and, in gvs::dsp_orb only (gvs/dsp/thesis_orb_methods.hpp: the desk tool
+// has them, gvsd does not link OpenCV's features2d):
+//   thesis-orb        ORB frame difference: direction and speed (4.3, 5.1)
 //   thesis            the overall system (ch. 6): speed from the Laplacian;
 //                     direction from ORB below 15 km/h, from the FFT above.
 //                     Its `method` says where the direction came from:
@@ -18,7 +20,6 @@
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/dsp/thesis_fft.hpp"
 #include "gvs/dsp/thesis_laplacian.hpp"
-#include "gvs/dsp/thesis_orb.hpp"
 
 namespace gvs::dsp {
 
@@ -27,8 +28,6 @@ namespace thesis {
 constexpr double kSwitchSpeedMps = 15.0 / 3.6;
 }  // namespace thesis
 
-std::unique_ptr<VelocityEstimator> make_thesis_estimator(const EstimatorConfig& config);
-std::unique_ptr<VelocityEstimator> make_thesis_orb_estimator(const EstimatorConfig& config);
 std::unique_ptr<VelocityEstimator> make_thesis_fft_estimator(const EstimatorConfig& config);
 std::unique_ptr<VelocityEstimator> make_thesis_laplacian_estimator(const EstimatorConfig& config);
 
