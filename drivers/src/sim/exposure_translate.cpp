@@ -3,8 +3,9 @@
 // pixel moves by the same raster vector (dj, di), so the mean along the
 // piece is one box filter of the raster along its rows, the same for every
 // pixel: computed once per raster sample from the prefix sums, then sampled
-// bilinearly at each pixel's start point. Two lookups per pixel and piece
-// instead of the exact render's per-pixel prefix differences.
+// bilinearly at each pixel's start point: one bilinear lookup per pixel and
+// piece (plus one pass over the raster) instead of the exact render's
+// interpolated prefix differences per pixel.
 #include <algorithm>
 #include <cmath>
 
