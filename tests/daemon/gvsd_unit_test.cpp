@@ -391,6 +391,34 @@ TEST(Health, LineCarriesTheCounters) {
   EXPECT_NE(held.find("implausible (held back)"), std::string::npos) << held;
 }
 
+TEST(Health, LineSaysWhichSideLostFrames) {
+  // The camera's drops ("source dropped", capture part), gvsd's capture
+  // losses ("ring overruns", capture part) and the estimator passing over
+  // older frames ("skipped", processing part) are three separate counts,
+  // each in its own part of the line.
+  HealthSnapshot prev;
+  HealthSnapshot now;
+  now.frames_dropped = 3;
+  now.ring_overruns = 5;
+  now.frames_skipped = 7;
+  const std::string line = format_health_line(now, prev, PublishedEstimate{}, 0, 5.0);
+  const auto processing = line.find("| processing ");
+  ASSERT_NE(processing, std::string::npos) << line;
+  const auto dropped = line.find("source dropped 3 (+3)");
+  const auto overruns = line.find("ring overruns 5 (+5)");
+  const auto skipped = line.find("skipped 7 (+7)");
+  ASSERT_NE(dropped, std::string::npos) << line;
+  ASSERT_NE(overruns, std::string::npos) << line;
+  ASSERT_NE(skipped, std::string::npos) << line;
+  EXPECT_LT(dropped, processing) << "the source's drops belong to the capture part: " << line;
+  EXPECT_LT(overruns, processing) << line;
+  EXPECT_GT(skipped, processing) << "the estimator's skips belong to the processing part: " << line;
+  // Nothing lost: every count reads 0.
+  const std::string quiet = format_health_line(prev, prev, PublishedEstimate{}, 0, 5.0);
+  EXPECT_NE(quiet.find("source dropped 0 (+0)"), std::string::npos) << quiet;
+  EXPECT_NE(quiet.find("skipped 0 (+0)"), std::string::npos) << quiet;
+}
+
 TEST(Health, LineNamesEachRejectReason) {
   HealthSnapshot prev;
   HealthSnapshot now;

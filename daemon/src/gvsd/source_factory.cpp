@@ -64,6 +64,7 @@ drivers::SimulatorConfig sim_config(const DaemonConfig& config, const std::strin
   // Rendered live beside the estimator: the cheap periodic texture
   // (SimulatorConfig::periodic_texture, docs/simulator.md).
   sim.periodic_texture = true;
+  sim.live_fast_render = true;
   return sim;
 }
 

@@ -6,6 +6,7 @@
 // exposure is then a sum over path segments of differences of prefix sums:
 // O(1) per segment, whatever the blur length.
 #include "exposure.hpp"
+#include "parallel.hpp"
 
 #include <algorithm>
 #include <array>
@@ -159,7 +160,7 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
   const CameraFrame cam{camera.mm_per_px, (camera.height_px - 1) / 2.0, (camera.width_px - 1) / 2.0,
                         camera.mount_yaw_deg * 3.14159265358979323846 / 180.0, camera.width_px,
                         camera.height_px};
-  const double h = camera.mm_per_px / kSupersample;
+  const double h = camera.mm_per_px / supersample_;
 
   // 1. Knots of every light interval.
   std::vector<std::pair<double, Pose>> poses;
@@ -271,7 +272,7 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
                            grid.rows == last_grid_.rows && grid.cols == last_grid_.cols;
   stats_.texture_ms = 0.0;
   if (!same_raster) {
-    cv::parallel_for_(cv::Range(0, strips), [&](const cv::Range& range) {
+    for_strips(parallel_, cv::Range(0, strips), [&](const cv::Range& range) {
       for (int s = range.start; s < range.end; ++s) {
         int r0, r1;
         strip_rows(s, r0, r1);
@@ -294,34 +295,44 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
     };
     const auto w = taps(kPsfSigmaPx * camera.mm_per_px / grid.spacing_mm);
     const auto wu = taps(kPsfSigmaPx * camera.mm_per_px / grid.spacing_u_mm);
-    cv::parallel_for_(cv::Range(0, strips), [&](const cv::Range& range) {
+    // One raster row r blurred by the PSF into dst's f slots (vert: cols floats of scratch).
+    auto psf_row = [&](int r, float* vert, float* dst) {
+      // Vertical pass (rows clamped at the raster edge; the margin keeps it out of view).
+      std::fill(vert, vert + cols, 0.0f);
+      for (int k = -kPsfRadius; k <= kPsfRadius; ++k) {
+        const int rr = std::clamp(r + k, 0, rows - 1);
+        const float wk = w[static_cast<std::size_t>(k + kPsfRadius)];
+        const float* src = reflectance_.data() + static_cast<std::ptrdiff_t>(rr) * cols;
+        for (int c = 0; c < cols; ++c) vert[c] += wk * src[c];
+      }
+      // Horizontal pass.
+      for (int c = 0; c < cols; ++c) {
+        float acc = 0.0f;
+        if (c >= kPsfRadius && c < cols - kPsfRadius) {
+          for (int k = -kPsfRadius; k <= kPsfRadius; ++k)
+            acc += wu[static_cast<std::size_t>(k + kPsfRadius)] * vert[c + k];
+        } else {
+          for (int k = -kPsfRadius; k <= kPsfRadius; ++k)
+            acc += wu[static_cast<std::size_t>(k + kPsfRadius)] * vert[std::clamp(c + k, 0, cols - 1)];
+        }
+        dst[2 * c + 1] = acc - kOffset;
+      }
+    };
+    for_strips(parallel_, cv::Range(0, strips), [&](const cv::Range& range) {
       std::vector<float> vert(static_cast<std::size_t>(cols));
       for (int s = range.start; s < range.end; ++s) {
         int r0, r1;
         strip_rows(s, r0, r1);
         for (int r = r0; r < r1; ++r) {
-          // Vertical pass (rows clamped at the raster edge; the margin keeps it out of view).
-          std::fill(vert.begin(), vert.end(), 0.0f);
-          for (int k = -kPsfRadius; k <= kPsfRadius; ++k) {
-            const int rr = std::clamp(r + k, 0, rows - 1);
-            const float wk = w[static_cast<std::size_t>(k + kPsfRadius)];
-            const float* src = reflectance_.data() + static_cast<std::ptrdiff_t>(rr) * cols;
-            for (int c = 0; c < cols; ++c) vert[static_cast<std::size_t>(c)] += wk * src[c];
-          }
-          // Horizontal pass and prefix integral of the linear interpolant.
           float* dst = cells_.data() + 2 * static_cast<std::ptrdiff_t>(r) * cols;
-          const float* vp = vert.data();
-          for (int c = 0; c < cols; ++c) {
-            float acc = 0.0f;
-            if (c >= kPsfRadius && c < cols - kPsfRadius) {
-              for (int k = -kPsfRadius; k <= kPsfRadius; ++k)
-                acc += wu[static_cast<std::size_t>(k + kPsfRadius)] * vp[c + k];
-            } else {
-              for (int k = -kPsfRadius; k <= kPsfRadius; ++k)
-                acc += wu[static_cast<std::size_t>(k + kPsfRadius)] * vp[std::clamp(c + k, 0, cols - 1)];
-            }
-            dst[2 * c + 1] = acc - kOffset;
+          if (ground_has_psf_) {
+            // The ground already holds the PSF (a pre-blurred tile): the samples as they are.
+            const float* src = reflectance_.data() + static_cast<std::ptrdiff_t>(r) * cols;
+            for (int c = 0; c < cols; ++c) dst[2 * c + 1] = src[c] - kOffset;
+          } else {
+            psf_row(r, vert.data(), dst);
           }
+          // Prefix integral of the linear interpolant.
           double run = 0.0;
           dst[0] = 0.0f;
           for (int c = 1; c < cols; ++c) {
@@ -338,13 +349,22 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
   t_stage = Clock::now();
   // 6. Path integrals per pixel.
   out.create(camera.height_px, camera.width_px, CV_32FC1);
+  if (supersample_ == 1.0 &&
+      integrate_translating(cells_.data(), rows, cols, knots_, interval_begin_, kOffset, parallel_, box_, out)) {
+    stats_.integrate_ms = ms_since(t_stage);
+    stats_.raster_rows = rows;
+    stats_.raster_cols = cols;
+    stats_.knots = knots_.size();
+    stats_.box_filtered = true;
+    return;
+  }
   double lit = 0.0;
   for (const LightInterval& iv : light) lit += iv.t1_s - iv.t0_s;
   const Lookup lut(cells_.data(), rows, cols);
   const std::size_t n_intervals = light.size();
   const int height = camera.height_px;
   const int width = camera.width_px;
-  cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& range) {
+  for_strips(parallel_, cv::Range(0, height), [&](const cv::Range& range) {
     for (int r = range.start; r < range.end; ++r) {
       float* dst = out.ptr<float>(r);
       for (int c = 0; c < width; ++c) {
@@ -373,6 +393,7 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
   stats_.raster_rows = rows;
   stats_.raster_cols = cols;
   stats_.knots = knots_.size();
+  stats_.box_filtered = false;
 }
 
 }  // namespace gvs::drivers::sim

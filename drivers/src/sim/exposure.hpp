@@ -43,6 +43,19 @@ class ExposureRenderer {
   /// motion uses the pixel pitch instead of half of it; <= 0: never.
   void set_coarse_min_blur_px(double px) { coarse_min_blur_px_ = px; }
 
+  /// Live fast render (docs/simulator.md, "Live source"): the raster at the
+  /// pixel pitch s in both axes instead of s/2 across the motion; when
+  /// `ground_has_psf`, no PSF pass (the ground already holds it: a tile
+  /// blurred once); path integrals by box filters where the view only
+  /// translates (integrate_translating); everything on the calling thread.
+  /// Off (the default): the exact render of datasets, over both cores.
+  void set_live_fast(bool on, bool ground_has_psf) {
+    supersample_ = on ? 1.0 : kSupersample;
+    ground_has_psf_ = on && ground_has_psf;
+    parallel_ = !on;
+  }
+  [[nodiscard]] bool parallel() const { return parallel_; }
+
   /// Raster coordinates of pixel (r, c) at one instant: j = j00 + r jr + c jc, same for i.
   struct Knot {
     double t_s;
@@ -59,8 +72,25 @@ class ExposureRenderer {
   std::vector<std::size_t> interval_begin_;  ///< first knot of each interval (+ end)
   ExposureStats stats_;
   double coarse_min_blur_px_ = 32.0;
+  std::vector<float> box_;  ///< live fast path: one piece's box-filtered raster
+  double supersample_ = kSupersample;  ///< raster spacing s / supersample_ (across the motion)
+  bool ground_has_psf_ = false;        ///< skip the PSF pass (the ground is pre-blurred)
+  bool parallel_ = true;               ///< cv::parallel_for_ (else the calling thread only)
   const Ground* ground_id_ = nullptr;  ///< ground and grid of cells_
   RasterGrid last_grid_;
 };
+
+/// The live fast render's path integrals (exposure_translate.cpp): when every
+/// piece of path between `knots` only translates the view (its path vector
+/// varies by at most 0.05 raster px over the image) and crosses at most half
+/// a raster row, writes into `out` (CV_32FC1, already image-sized) offset +
+/// the time-weighted mean of the box-filtered raster (`cells`: prefix sums
+/// and samples, interleaved) sampled bilinearly at each pixel, and returns
+/// true; otherwise returns false and leaves `out` alone. `parallel`: over
+/// both cores (else on the calling thread).
+bool integrate_translating(const float* cells, int rows, int cols,
+                           const std::vector<ExposureRenderer::Knot>& knots,
+                           const std::vector<std::size_t>& interval_begin, float offset, bool parallel,
+                           std::vector<float>& box, cv::Mat& out);
 
 }  // namespace gvs::drivers::sim

@@ -25,6 +25,14 @@ class Sensor {
   void expose(const cv::Mat& reflectance, double e_per_reflectance, double gain_dn_per_e,
               std::uint64_t noise_seed, cv::Mat& gray) const;
 
+  /// The live fast render's frame (sensor_live.cpp): the same model on the
+  /// calling thread, with the Gaussian draws (shot noise above 30 e-, read
+  /// noise) taken from a 4096-entry table of normal quantiles instead of
+  /// Box-Muller: the same noise level and distribution up to 3.67 sigma
+  /// (docs/simulator.md, "Live source"); dim pixels keep the exact Poisson.
+  void expose_live(const cv::Mat& reflectance, double e_per_reflectance, double gain_dn_per_e,
+                   std::uint64_t noise_seed, cv::Mat& gray) const;
+
   [[nodiscard]] const SensorModel& model() const { return model_; }
 
  private:

@@ -75,6 +75,7 @@ struct Simulator::Impl {
     config.ground = sim::ground_text(spec);
     make_ground(spec);
     renderer.set_coarse_min_blur_px(c.coarse_raster_min_blur_px);
+    renderer.set_live_fast(c.live_fast_render, tile && tile->psf_sigma_mm() > 0.0);
     plan.exposure_us = c.exposure_us;
     frames = static_cast<std::size_t>(std::floor(period_s * c.fps + 1e-9));
     calibrate();
@@ -147,8 +148,13 @@ struct Simulator::Impl {
     const std::uint64_t noise_seed =
         sim::detail::hash_cell(config.seed, 0x5EED, index, static_cast<std::int64_t>(config.sensor_seed));
     const auto t_sensor = std::chrono::steady_clock::now();
-    sensor.expose(reflectance, m.led_flux_e_per_us * dose * light_level, gain * ratio, noise_seed,
-                  out.gray);
+    if (config.live_fast_render) {
+      sensor.expose_live(reflectance, m.led_flux_e_per_us * dose * light_level, gain * ratio, noise_seed,
+                         out.gray);
+    } else {
+      sensor.expose(reflectance, m.led_flux_e_per_us * dose * light_level, gain * ratio, noise_seed,
+                    out.gray);
+    }
     stats = renderer.stats();
     stats.sensor_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_sensor).count();
@@ -196,8 +202,14 @@ struct Simulator::Impl {
     const double period = texture_period_mm(config);
     auto texture = period > 0.0 ? std::make_unique<sim::AsphaltTexture>(config.seed, period)
                                 : std::make_unique<sim::AsphaltTexture>(config.seed);
-    if (period > 0.0)
-      tile = std::make_unique<sim::TextureTile>(*texture, config.camera.mm_per_px / sim::ExposureRenderer::kSupersample);
+    if (period > 0.0) {
+      // The live fast render takes the PSF from the tile (blurred once at
+      // s/2) instead of per frame, and keeps the tile at the pixel pitch s.
+      const bool fast = config.live_fast_render;
+      const double psf_sigma_mm = fast ? sim::ExposureRenderer::kPsfSigmaPx * config.camera.mm_per_px : 0.0;
+      tile = std::make_unique<sim::TextureTile>(
+          *texture, config.camera.mm_per_px / sim::ExposureRenderer::kSupersample, psf_sigma_mm, fast ? 2 : 1);
+    }
     ground = std::move(texture);
   }
   [[nodiscard]] const sim::Ground& rendered_ground() const { return tile ? *tile : *ground; }

@@ -31,7 +31,13 @@ int TextureTile::side_for(double period_mm, double spacing_mm) {
   return 1 << static_cast<int>(std::min(octaves, 20.0));
 }
 
-TextureTile::TextureTile(const AsphaltTexture& texture, double spacing_mm) : period_mm_(texture.period_mm()) {
+TextureTile::TextureTile(const AsphaltTexture& texture, double spacing_mm)
+    : TextureTile(texture, spacing_mm, 0.0) {}
+
+TextureTile::TextureTile(const AsphaltTexture& texture, double spacing_mm, double psf_sigma_mm, int keep_every)
+    : period_mm_(texture.period_mm()) {
+  if (keep_every != 1 && keep_every != 2)
+    throw std::invalid_argument("simulator: texture tile keeps every 1st or 2nd sample");
   if (!(period_mm_ > 0.0)) throw std::invalid_argument("simulator: a texture tile needs a periodic texture");
   if (!(spacing_mm > 0.0)) throw std::invalid_argument("simulator: texture tile spacing must be > 0");
   n_ = side_for(period_mm_, spacing_mm);
@@ -52,6 +58,60 @@ TextureTile::TextureTile(const AsphaltTexture& texture, double spacing_mm) : per
       const int r0 = n_ * s / strips;
       const int r1 = n_ * (s + 1) / strips;
       texture.render_rows(grid, r0, r1, samples_.data() + static_cast<std::ptrdiff_t>(r0) * n_);
+    }
+  });
+  if (psf_sigma_mm > 0.0) {
+    blur(psf_sigma_mm / spacing_mm_);
+    psf_sigma_mm_ = psf_sigma_mm;
+  }
+  if (keep_every == 2 && n_ >= 2) keep_every_other();
+}
+
+void TextureTile::keep_every_other() {
+  const int half = n_ / 2;
+  for (int r = 0; r < half; ++r) {
+    const float* src = samples_.data() + static_cast<std::ptrdiff_t>(2 * r) * n_;
+    float* dst = samples_.data() + static_cast<std::ptrdiff_t>(r) * half;
+    for (int c = 0; c < half; ++c) dst[c] = src[2 * c];
+  }
+  n_ = half;
+  spacing_mm_ *= 2.0;
+  samples_.resize(static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_));
+  samples_.shrink_to_fit();
+}
+
+void TextureTile::blur(double sigma_samples) {
+  // Separable Gaussian, +-3 sigma, wrapped around the period (the tile is periodic).
+  const int radius = std::max(1, static_cast<int>(std::ceil(3.0 * sigma_samples)));
+  std::vector<float> taps(static_cast<std::size_t>(2 * radius + 1));
+  double sum = 0.0;
+  for (int k = -radius; k <= radius; ++k) sum += std::exp(-0.5 * k * k / (sigma_samples * sigma_samples));
+  for (int k = -radius; k <= radius; ++k)
+    taps[static_cast<std::size_t>(k + radius)] =
+        static_cast<float>(std::exp(-0.5 * k * k / (sigma_samples * sigma_samples)) / sum);
+  const int mask = n_ - 1;
+  std::vector<float> across(samples_.size());
+  // Along the rows (columns wrap), into `across`; then along the columns back into samples_.
+  cv::parallel_for_(cv::Range(0, n_), [&](const cv::Range& range) {
+    for (int r = range.start; r < range.end; ++r) {
+      const float* src = samples_.data() + static_cast<std::ptrdiff_t>(r) * n_;
+      float* dst = across.data() + static_cast<std::ptrdiff_t>(r) * n_;
+      for (int c = 0; c < n_; ++c) {
+        float acc = 0.0f;
+        for (int k = -radius; k <= radius; ++k) acc += taps[static_cast<std::size_t>(k + radius)] * src[(c + k) & mask];
+        dst[c] = acc;
+      }
+    }
+  });
+  cv::parallel_for_(cv::Range(0, n_), [&](const cv::Range& range) {
+    for (int r = range.start; r < range.end; ++r) {
+      float* dst = samples_.data() + static_cast<std::ptrdiff_t>(r) * n_;
+      std::fill(dst, dst + n_, 0.0f);
+      for (int k = -radius; k <= radius; ++k) {
+        const float w = taps[static_cast<std::size_t>(k + radius)];
+        const float* src = across.data() + static_cast<std::ptrdiff_t>((r + k) & mask) * n_;
+        for (int c = 0; c < n_; ++c) dst[c] += w * src[c];
+      }
     }
   });
 }

@@ -15,6 +15,13 @@ class TextureTile final : public Ground {
   /// `spacing_mm`: N x N samples, N the power of two nearest to
   /// period / spacing (<= 4096), so wrapping is a bit mask.
   TextureTile(const AsphaltTexture& texture, double spacing_mm);
+  /// The same, then blurred once with an isotropic Gaussian of `psf_sigma_mm`
+  /// (wrapped around the period): the pixel/optics PSF baked into the tile,
+  /// for the live fast render (docs/simulator.md, "Live source"). 0: none.
+  /// `keep_every` 2 then keeps every other sample in both axes (a tile at
+  /// twice the spacing, a quarter of the memory; the blur before it is the
+  /// anti-aliasing filter).
+  TextureTile(const AsphaltTexture& texture, double spacing_mm, double psf_sigma_mm, int keep_every = 1);
 
   /// The same contract as AsphaltTexture::render_rows: raster rows
   /// [row_begin, row_end) of `grid` into `out`, by bilinear interpolation of
@@ -24,6 +31,8 @@ class TextureTile final : public Ground {
   [[nodiscard]] int size() const { return n_; }
   [[nodiscard]] double spacing_mm() const { return spacing_mm_; }
   [[nodiscard]] double period_mm() const { return period_mm_; }
+  /// Gaussian blur baked into the samples (0: none).
+  [[nodiscard]] double psf_sigma_mm() const { return psf_sigma_mm_; }
 
   /// Period for a view `width_mm` x `height_mm` sampled at `spacing_mm`: a
   /// multiple of 36 mm, at least 1.5 times the view's longest side (no frame
@@ -38,7 +47,11 @@ class TextureTile final : public Ground {
   int n_ = 0;
   double period_mm_ = 0.0;
   double spacing_mm_ = 0.0;
+  double psf_sigma_mm_ = 0.0;
   std::vector<float> samples_;
+
+  void blur(double sigma_samples);
+  void keep_every_other();
 };
 
 }  // namespace gvs::drivers::sim

@@ -13,11 +13,12 @@ namespace gvs::drivers {
 SimSource::SimSource(const SimulatorConfig& config) : sim_(config), config_(config) {
   period_ns_ = static_cast<std::int64_t>(1e9 / config.fps);
   plan_.exposure_us = config.exposure_us;
-  // Render one frame now so every buffer inside the simulator and the scratch
-  // record has its final size before the real-time loop; it also gives the
-  // first render-time estimate.
-  const std::int64_t t0 = mono_now_ns();
+  // Render frame 0 now so every buffer inside the simulator and the scratch
+  // record has its final size before the real-time loop; a second render,
+  // with warm buffers and caches, gives the first render-time estimate.
   sim_.render(0, plan_, scratch_);
+  const std::int64_t t0 = mono_now_ns();
+  sim_.render(1, plan_, scratch_);
   render_ns_ = mono_now_ns() - t0;
 }
 
@@ -57,9 +58,11 @@ SourceStatus SimSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noe
   // show up as index gaps (counted as dropped). Timestamps stay exact.
   const std::int64_t now = mono_now_ns();
   const auto exposure_ns = static_cast<std::int64_t>(plan_.exposure_us * 1000.0);
-  if (base_ns_ < 0) base_ns_ = now + render_ns_;
+  // Margin for a render slower than the estimate (cache, memory bus).
+  constexpr std::int64_t kMarginNs = 1'000'000;
+  if (base_ns_ < 0) base_ns_ = now + render_ns_ + kMarginNs;  // frame 0 in time: none dropped at start
   std::int64_t k = next_index_;
-  const std::int64_t ready_ns = now + render_ns_ + render_ns_ / 4;
+  const std::int64_t ready_ns = now + render_ns_ + kMarginNs;
   const std::int64_t due_k = base_ns_ + k * period_ns_ + exposure_ns;
   if (due_k < ready_ns) k += (ready_ns - due_k + period_ns_ - 1) / period_ns_;
 
@@ -72,8 +75,15 @@ SourceStatus SimSource::next(FrameSlot& slot, const std::atomic<bool>& stop) noe
     return SourceStatus::error;
   }
   const std::int64_t took = mono_now_ns() - t0;
-  render_ns_ = (render_ns_ * 7 + took) / 8;
-  if (took > render_ns_) render_ns_ = took;  // follow slow-downs at once, speed-ups slowly
+  if (rendered_live_) {
+    render_ns_ = (render_ns_ * 7 + took) / 8;
+    if (took > render_ns_) render_ns_ = took;  // follow slow-downs at once, speed-ups slowly
+  } else {
+    // The constructor's render ran before the real-time setup (normal
+    // priority, cold): the first real-time render replaces its estimate.
+    render_ns_ = took;
+    rendered_live_ = true;
+  }
   render_ns_shown_.store(render_ns_, std::memory_order_relaxed);
   if (scratch_.gray.data != slot.view.gray.data) {
     // The simulator replaced the buffer (it should not): copy into the slot.

@@ -36,6 +36,7 @@ class SimSource final : public FrameSource {
   std::int64_t base_ns_ = -1;  ///< monotonic start of frame 0's exposure
   std::int64_t next_index_ = 0;
   std::int64_t render_ns_ = 0; ///< how long a render takes (running estimate)
+  bool rendered_live_ = false;  ///< render_ns_ comes from next() (not the constructor's cold render)
   std::atomic<std::int64_t> render_ns_shown_{0};  ///< render_ns_ for health_text() (main thread)
 };
 

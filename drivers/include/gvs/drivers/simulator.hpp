@@ -44,6 +44,14 @@ struct SimulatorConfig {
   /// (`gvs sim`) and every accuracy figure use the non-periodic texture.
   /// Procedural ground only: a photo ground is sampled directly.
   bool periodic_texture = false;
+  /// Live use (gvsd's sim: source): the cheap render of docs/simulator.md,
+  /// "Live source": the exposure raster at the pixel pitch s instead of s/2,
+  /// the PSF baked into the (periodic_texture) tile once instead of applied
+  /// per frame, path integrals as box filters while the view only
+  /// translates, table noise, all on the calling thread. Agrees with the
+  /// exact render of the same ground within the tolerance stated there;
+  /// datasets never use it.
+  bool live_fast_render = false;
   /// The ground: "procedural" (the asphalt above) or "photo:FILE[:MM_PER_PIXEL]",
   /// a seamless square photo at MM_PER_PIXEL (default 0.2) in randomised,
   /// blended tiles (docs/simulator.md, "Photographed ground"; syntax:
