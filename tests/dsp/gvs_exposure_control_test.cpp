@@ -207,6 +207,20 @@ TEST(ExposureControl, AdaptiveFindsTheOneMeasurableOctaveFromAColdStart) {
   EXPECT_EQ(frames_to_speed, 3);  // 3000, 1500, 750 us, then 375 us: 56 px
 }
 
+TEST(ExposureControl, DoublePulseLeavesTheContinuousExposureWhenAWellLitStreakGivesNoSpeed) {
+  // 3 ms at 11-87 km/h on low-contrast ground: a direction (blur-cont) but
+  // no streak length. Without this rule the plan stayed at 3 ms for good.
+  const ExposureLimits lim;
+  VelocityEstimate blurred = direction_only(Method::blur_cont);
+  blurred.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 5.0;
+  EXPECT_EQ(next_exposure(blurred, continuous_us(3000.0), ExposureMode::double_pulse, lim).pulse_count, 2u);
+  blurred.tracking = true;  // one miss while a recent speed is tracked: hold
+  EXPECT_EQ(next_exposure(blurred, continuous_us(3000.0), ExposureMode::double_pulse, lim).pulse_count, 0u);
+  blurred.tracking = false;
+  blurred.pixel_snr = VelocityEstimate::kWellLitPixelSnr - 5.0;  // dark: hold
+  EXPECT_EQ(next_exposure(blurred, continuous_us(3000.0), ExposureMode::double_pulse, lim).pulse_count, 0u);
+}
+
 TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
   const ExposureLimits lim;
   ExposurePlan plan = continuous_us(750.0);

@@ -206,7 +206,11 @@ ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePla
     }
     return double_pulse_plan(lim.target_shift_px / v, pulse_us, lim);
   }
-  if (streak_too_long(latest) || (moving_without_speed(latest) && frame.pulse_count >= 2)) {
+  // At the continuous exposure a well-lit direction without a speed, with
+  // no recent one, is a streak the estimator cannot measure: as too long.
+  const bool long_unmeasured = frame.pulse_count < 2 && latest.has_direction && !latest.has_speed &&
+                               latest.well_lit() && !latest.tracking;
+  if (streak_too_long(latest) || long_unmeasured || (moving_without_speed(latest) && frame.pulse_count >= 2)) {
     // Direction without speed: streak or displacement too long.
     const double v_guess = px_per_us(30.0, lim);  // assume fast: 108 km/h
     const ExposurePlan restart = double_pulse_plan(
