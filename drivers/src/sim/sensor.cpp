@@ -6,6 +6,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "hash.hpp"
+#include "sensor_pixel.hpp"
 
 namespace gvs::drivers::sim {
 
@@ -52,42 +53,20 @@ void Sensor::electrons(const cv::Mat& reflectance, double e_per_reflectance, cv:
 void Sensor::expose(const cv::Mat& reflectance, double e_per_reflectance, double gain_dn_per_e,
                     std::uint64_t noise_seed, cv::Mat& gray) const {
   gray.create(reflectance.rows, reflectance.cols, CV_8UC1);
-  const auto scale = static_cast<float>(e_per_reflectance);
-  const auto gain = static_cast<float>(gain_dn_per_e);
-  const auto full_well = static_cast<float>(model_.full_well_e);
-  const auto read2 = static_cast<float>(model_.read_noise_e * model_.read_noise_e);
-  const bool noisy = model_.shot_and_read_noise;
+  const PixelModel m = pixel_model(e_per_reflectance, gain_dn_per_e);
   cv::parallel_for_(cv::Range(0, reflectance.rows), [&](const cv::Range& range) {
     for (int r = range.start; r < range.end; ++r) {
       detail::Rng rng(detail::hash_cell(noise_seed, 7, r, 0));
-      const float* rho = reflectance.ptr<float>(r);
-      const float* resp = response_.ptr<float>(r);
-      const float* off = offset_.ptr<float>(r);
-      std::uint8_t* dst = gray.ptr<std::uint8_t>(r);
-      for (int c = 0; c < reflectance.cols; ++c) {
-        float e = std::max(0.0f, scale * rho[c] * resp[c]);
-        if (noisy) {
-          if (e > 30.0f) {
-            // Poisson shot noise (Gaussian limit) and read noise in one normal draw.
-            e += std::sqrt(e + read2) * rng.normal();
-          } else {
-            // Exact Poisson for dim pixels (Knuth), then read noise.
-            const float limit = std::exp(-e);
-            float p = 1.0f;
-            int k = -1;
-            do {
-              ++k;
-              p *= rng.uniformf();
-            } while (p > limit);
-            e = static_cast<float>(k) + std::sqrt(read2) * rng.normal();
-          }
-        }
-        e = std::min(e, full_well);
-        const float dn = std::round(gain * e + off[c]);
-        dst[c] = static_cast<std::uint8_t>(std::clamp(dn, 0.0f, 255.0f));
-      }
+      expose_row(m, reflectance.ptr<float>(r), response_.ptr<float>(r), offset_.ptr<float>(r),
+                 gray.ptr<std::uint8_t>(r), reflectance.cols, rng);
     }
   }, 8);
+}
+
+PixelModel Sensor::pixel_model(double e_per_reflectance, double gain_dn_per_e) const {
+  return {static_cast<float>(e_per_reflectance), static_cast<float>(gain_dn_per_e),
+          static_cast<float>(model_.full_well_e), static_cast<float>(model_.read_noise_e * model_.read_noise_e),
+          model_.shot_and_read_noise};
 }
 
 }  // namespace gvs::drivers::sim

@@ -2,6 +2,8 @@
 // pattern noise (PRNU, DSNU), gain, 8-bit quantisation with clipping.
 #pragma once
 
+#include "sensor_pixel.hpp"
+
 #include <cstdint>
 
 #include <opencv2/core/mat.hpp>
@@ -36,6 +38,7 @@ class Sensor {
   [[nodiscard]] const SensorModel& model() const { return model_; }
 
  private:
+  [[nodiscard]] PixelModel pixel_model(double e_per_reflectance, double gain_dn_per_e) const;
   SensorModel model_;
   cv::Mat response_;  ///< light falloff x PRNU, CV_32F
   cv::Mat offset_;    ///< black level + DSNU, DN, CV_32F

@@ -6,6 +6,7 @@
 
 #include "hash.hpp"
 #include "sensor.hpp"
+#include "sensor_pixel.hpp"
 
 namespace gvs::drivers::sim {
 namespace {
@@ -41,7 +42,7 @@ const std::array<float, kTableSize>& normal_table() {
 class TableNormals {
  public:
   explicit TableNormals(std::uint64_t seed) : rng_(seed), table_(normal_table().data()) {}
-  float next() {
+  float normal() {
     if (left_ == 0) {
       bits_ = rng_.next();
       left_ = 5;
@@ -51,7 +52,7 @@ class TableNormals {
     --left_;
     return v;
   }
-  detail::Rng& rng() { return rng_; }
+  float uniformf() { return rng_.uniformf(); }
 
  private:
   detail::Rng rng_;
@@ -65,40 +66,11 @@ class TableNormals {
 void Sensor::expose_live(const cv::Mat& reflectance, double e_per_reflectance, double gain_dn_per_e,
                          std::uint64_t noise_seed, cv::Mat& gray) const {
   gray.create(reflectance.rows, reflectance.cols, CV_8UC1);
-  const auto scale = static_cast<float>(e_per_reflectance);
-  const auto gain = static_cast<float>(gain_dn_per_e);
-  const auto full_well = static_cast<float>(model_.full_well_e);
-  const auto read2 = static_cast<float>(model_.read_noise_e * model_.read_noise_e);
-  const float read = std::sqrt(read2);
-  const bool noisy = model_.shot_and_read_noise;
+  const PixelModel m = pixel_model(e_per_reflectance, gain_dn_per_e);
   for (int r = 0; r < reflectance.rows; ++r) {
     TableNormals normals(detail::hash_cell(noise_seed, 7, r, 0));
-    const float* rho = reflectance.ptr<float>(r);
-    const float* resp = response_.ptr<float>(r);
-    const float* off = offset_.ptr<float>(r);
-    std::uint8_t* dst = gray.ptr<std::uint8_t>(r);
-    for (int c = 0; c < reflectance.cols; ++c) {
-      float e = std::max(0.0f, scale * rho[c] * resp[c]);
-      if (noisy) {
-        if (e > 30.0f) {
-          // Poisson shot noise (Gaussian limit) and read noise in one normal draw.
-          e += std::sqrt(e + read2) * normals.next();
-        } else {
-          // Exact Poisson for dim pixels (Knuth), then read noise.
-          const float limit = std::exp(-e);
-          float p = 1.0f;
-          int k = -1;
-          do {
-            ++k;
-            p *= normals.rng().uniformf();
-          } while (p > limit);
-          e = static_cast<float>(k) + read * normals.next();
-        }
-      }
-      e = std::min(e, full_well);
-      const float dn = std::clamp(gain * e + off[c], 0.0f, 255.0f);
-      dst[c] = static_cast<std::uint8_t>(dn + 0.5f);  // round half up (dn >= 0)
-    }
+    expose_row(m, reflectance.ptr<float>(r), response_.ptr<float>(r), offset_.ptr<float>(r),
+               gray.ptr<std::uint8_t>(r), reflectance.cols, normals);
   }
 }
 
