@@ -179,6 +179,31 @@ TEST(Config, OutOfRangeNamesKeyAndRange) {
   EXPECT_NE(error_of("not toml [").find("not valid TOML"), std::string::npos);
 }
 
+// toml++ 3.3.0 has undefined behaviour on some non-ASCII characters where it
+// expects whitespace (found by fuzz_config); TOML allows them only in strings
+// and comments, so gvsd refuses them elsewhere before toml++ reads them.
+TEST(Config, NonAsciiOnlyInStringsAndComments) {
+  const std::string mu = "\xC2\xB5";  // U+00B5, one of the characters that reached toml++'s UB
+  EXPECT_EQ(parse_config("# exposure in " + mu + "s\n[log]\nlevel = \"info\" # " + mu + "\n", "t.toml").log_level,
+            "info");
+  EXPECT_EQ(parse_config("\xEF\xBB\xBF[can]\nperiod_ms = 10\n", "t.toml").period_ms, 10);  // byte-order mark
+  EXPECT_EQ(parse_config("[source]\nuri = \"file:/m" + mu + "/\\\"x\\\"\" # " + mu + "\n", "t.toml").source_uri,
+            "file:/m" + mu + "/\"x\"");
+  EXPECT_EQ(parse_config("[source]\nuri = '''sim:" + mu + "'''\n", "t.toml").source_uri, "sim:" + mu);
+  // Outside strings and comments: the line, and what is allowed where.
+  for (const std::string& bad :
+       {"[can]\nperiod_ms = 2" + mu + "\n", "[can]\n" + mu + " = 1\n", "[log]\nlevel = \"info\"\n[" + mu + "]\n",
+        "[log] # \" \nlevel = \"info\" " + mu + "\n", "[can]\nperiod_ms = +0'''+'" + mu + "\n"}) {
+    const std::string e = error_of(bad);
+    EXPECT_NE(e.find("not valid TOML"), std::string::npos) << e;
+    EXPECT_NE(e.find("is allowed only in a quoted string or a comment"), std::string::npos) << e;
+  }
+  EXPECT_NE(error_of("[log]\nlevel = \"info\"\n[" + mu + "]\n").find("bad.toml:3:"), std::string::npos);
+  // A multi-line basic string, where toml++ trims whitespace after a backslash.
+  const std::string e = error_of("[source]\nuri = \"\"\"x \\\n " + mu + "\"\"\"\n");
+  EXPECT_NE(e.find("bad.toml:3: a non-ASCII character in a multi-line"), std::string::npos) << e;
+}
+
 // Issue #22: the CAN period is configurable from 4 to 100 ms (default 20, as
 // the ECU expects); the simulated camera takes up to 250 fps and beyond.
 TEST(Config, CanPeriodIsFourToOneHundredMilliseconds) {

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -150,6 +151,125 @@ void refuse_unknown(const toml::table& table, std::string_view section, const st
                       std::string(section.empty() ? "top level" : section) + "]; known keys: " + keys);
   }
 }
+
+// toml++ 3.3.0 (Debian 12) reaches __builtin_unreachable() -- undefined
+// behaviour, found by fuzz_config -- when it tests some non-ASCII characters
+// as whitespace: outside strings and comments, and after a line-ending
+// backslash in a multi-line """ string. So gvsd first parses a stand-in of
+// the file with every non-ASCII byte replaced by '~', which is never valid
+// outside a string or comment: if that parses, every non-ASCII character is
+// in a string or a comment. Same lines, same structure; only text differs.
+constexpr char kNonAsciiStandIn = '~';
+
+std::string ascii_stand_in(std::string_view text) {
+  std::string s(text);
+  for (char& c : s)
+    if (static_cast<unsigned char>(c) >= 0x80) c = kNonAsciiStandIn;
+  return s;
+}
+
+// In a file that is valid TOML: the 1-based line of the first non-ASCII
+// byte inside a multi-line basic string ("""), if any. The scan follows
+// TOML's string and comment syntax, exact for valid TOML.
+std::optional<int> line_of_non_ascii_in_multi_line_basic_string(std::string_view s) {
+  enum class In { code, comment, basic, literal, multi_basic, multi_literal };
+  In in = In::code;
+  int line = 1;
+  std::size_t i = 0;
+  const auto starts = [&](std::string_view t) { return s.substr(i, t.size()) == t; };
+  const auto skip_quotes = [&](char q) {  // a multi-line string may end in up to 5 quotes
+    while (i + 1 < s.size() && s[i + 1] == q) ++i;
+  };
+  const auto escaped_quote_or_backslash = [&] {
+    return s[i] == '\\' && i + 1 < s.size() && (s[i + 1] == '"' || s[i + 1] == '\\');
+  };
+  for (; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c == '\n') ++line;
+    switch (in) {
+      case In::code:
+        if (c == '#') {
+          in = In::comment;
+        } else if (starts("\"\"\"")) {
+          i += 2;
+          in = In::multi_basic;
+        } else if (starts("'''")) {
+          i += 2;
+          in = In::multi_literal;
+        } else if (c == '"') {
+          in = In::basic;
+        } else if (c == '\'') {
+          in = In::literal;
+        }
+        break;
+      case In::comment:
+        if (c == '\n') in = In::code;
+        break;
+      case In::basic:
+        if (escaped_quote_or_backslash()) {
+          ++i;
+        } else if (c == '"') {
+          in = In::code;
+        }
+        break;
+      case In::literal:
+        if (c == '\'') in = In::code;
+        break;
+      case In::multi_basic:
+        if (static_cast<unsigned char>(c) >= 0x80) return line;
+        if (escaped_quote_or_backslash()) {
+          ++i;
+        } else if (starts("\"\"\"")) {
+          skip_quotes('"');
+          in = In::code;
+        }
+        break;
+      case In::multi_literal:
+        if (starts("'''")) {
+          skip_quotes('\'');
+          in = In::code;
+        }
+        break;
+    }
+  }
+  return std::nullopt;
+}
+
+[[noreturn]] void refuse_invalid_toml(std::string_view text, const std::string& origin, const toml::parse_error& e) {
+  const auto line = static_cast<std::size_t>(e.source().begin.line);
+  std::ostringstream msg;
+  msg << origin << ':' << line << ": not valid TOML: " << e.description();
+  std::size_t begin = 0;  // the line's text, to say whether a non-ASCII character is the cause
+  for (std::size_t n = 1; n < line && begin != std::string_view::npos; ++n) {
+    begin = text.find('\n', begin);
+    if (begin != std::string_view::npos) ++begin;
+  }
+  const std::string_view line_text =
+      begin == std::string_view::npos ? std::string_view{} : text.substr(begin, text.find('\n', begin) - begin);
+  if (std::any_of(line_text.begin(), line_text.end(), [](char c) { return static_cast<unsigned char>(c) >= 0x80; }))
+    msg << " (a non-ASCII character, shown as '" << kNonAsciiStandIn
+        << "', is allowed only in a quoted string or a comment)";
+  throw ConfigError(msg.str());
+}
+
+toml::table parse_toml(std::string_view text, const std::string& origin) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte-order mark
+  try {
+    (void)toml::parse(ascii_stand_in(text), origin);
+  } catch (const toml::parse_error& e) {
+    refuse_invalid_toml(text, origin, e);
+  }
+  if (const std::optional<int> line = line_of_non_ascii_in_multi_line_basic_string(text)) {
+    throw ConfigError(origin + ':' + std::to_string(*line) +
+                      ": a non-ASCII character in a multi-line \"\"\" string, which gvsd's TOML parser "
+                      "(toml++ 3.3.0) cannot read safely; put the text in a one-line \"string\"");
+  }
+  try {
+    return toml::parse(text, origin);
+  } catch (const toml::parse_error& e) {
+    refuse_invalid_toml(text, origin, e);
+  }
+}
 }  // namespace
 
 const std::vector<std::string>& log_level_names() {
@@ -158,14 +278,7 @@ const std::vector<std::string>& log_level_names() {
 }
 
 DaemonConfig parse_config(std::string_view toml_text, const std::string& origin) {
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, origin);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream msg;
-    msg << origin << ':' << e.source().begin.line << ": not valid TOML: " << e.description();
-    throw ConfigError(msg.str());
-  }
+  const toml::table root = parse_toml(toml_text, origin);
 
   DaemonConfig c;
   c.origin = origin;
