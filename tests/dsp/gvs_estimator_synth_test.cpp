@@ -32,6 +32,7 @@ struct SynthRun {
   double yaw_dps = 0.0;
   ExposurePlan exposure;
   test::Sensor sensor;
+  const cv::Mat* ground = &texture();
 
   [[nodiscard]] FrameView frame(int i, cv::Mat& storage) const {
     // Image velocity in px per microsecond; ground position at the frame start.
@@ -46,7 +47,7 @@ struct SynthRun {
         pulses.push_back({exposure.pulses[k].start_us, exposure.pulses[k].duration_us, 1.0});
       }
     }
-    storage = test::render_frame(texture(), {cam.width_px, cam.height_px}, px_per_us.x * t0,
+    storage = test::render_frame(*ground, {cam.width_px, cam.height_px}, px_per_us.x * t0,
                                  px_per_us.y * t0, omega_per_us * t0, px_per_us.x, px_per_us.y,
                                  omega_per_us, pulses, sensor, 100 + static_cast<std::uint64_t>(i));
     FrameView f;
@@ -385,6 +386,78 @@ TEST(GvsEstimator, AStreakCannotShrinkFromEndlessToShortInOneFrame) {
   const VelocityEstimate f = fresh->estimate(slow.frame(2, img));
   ASSERT_TRUE(f.has_speed) << f.method;
   EXPECT_NEAR(f.speed_mps, 1.47, 0.03);
+}
+
+// Ground with a grain of its own (the tiled photograph torcs_etrack2 has
+// one): the texture smeared 13 px across the motion. A 15 px streak over it
+// reads an elongated spectrum whose axis leans 10 deg towards the grain.
+const cv::Mat& grained_texture() {
+  static const cv::Mat grained = [] {
+    cv::Mat line = cv::Mat::zeros(13, 13, CV_32F);
+    cv::line(line, {6, 0}, {6, 12}, cv::Scalar(1.0));
+    line /= cv::sum(line)[0];
+    cv::Mat out;
+    cv::filter2D(texture(), out, -1, line, {-1, -1}, 0.0, cv::BORDER_REFLECT);
+    cv::Scalar mean;
+    cv::Scalar stddev;
+    cv::meanStdDev(out, mean, stddev);
+    return cv::Mat((out - mean[0]) / stddev[0]);
+  }();
+  return grained;
+}
+
+TEST(GvsEstimator, SlowOnGrainedGroundAfterFastFramesGoesBackToThePair) {
+  // After frames too fast for a pair (single-frame mode, no speed), the car
+  // crawls at 0.49 m/s with 3 ms: 15 px streaks, too short for a speed, and
+  // frames 83 px apart that overlap. The pair must take over again.
+  SynthRun fast;
+  fast.ground = &grained_texture();
+  fast.v_mps = {16.7, 0.0};
+  fast.exposure.exposure_us = 600.0;  // 100 px streaks, frames 2800 px apart
+  auto est = make_gvs(fast.cam);
+  cv::Mat img;
+  for (int i = 0; i < 2; ++i) ASSERT_NE(est->estimate(fast.frame(i, img)).method, Method::pair) << "frame " << i;
+  SynthRun slow = fast;
+  slow.v_mps = {0.45, 0.2};
+  slow.exposure.exposure_us = 3000.0;
+  int pairs = 0;
+  for (int i = 2; i < 14; ++i) {
+    const VelocityEstimate e = est->estimate(slow.frame(i, img));
+    if (e.method != Method::pair) continue;
+    ++pairs;
+    EXPECT_NEAR(dir_error(e, slow.v_mps), 0.0, 0.3) << "frame " << i;
+    ASSERT_TRUE(e.has_speed);
+    EXPECT_NEAR(e.speed_mps, std::hypot(0.45, 0.2), 0.01) << "frame " << i;
+  }
+  // The first slow frame has no overlapping predecessor; the second's pair
+  // has no slope for its half-frame lag (GvsEstimator keeps the frame's own).
+  EXPECT_EQ(pairs, 10);
+}
+
+TEST(GvsEstimator, ShortStrobedStreaksAtSpeedTakeNoChancePair) {
+  // Single-frame mode (fast frames 2800 px apart), then 12.6 m/s under a
+  // 100 us strobe: 13 px streaks without a speed, as in a cold start of the
+  // adaptive strobe, and frames 2098 px apart, which on this 1024 px
+  // periodic ground (a tiled photograph repeats too) is a 50 px shift. The
+  // pair matches it at 0.3 m/s, a speed that makes a 0.3 px streak, not the
+  // 13 px one the frame shows: it must not give the speed.
+  SynthRun fast;
+  fast.ground = &grained_texture();
+  fast.v_mps = {16.7, 0.0};
+  fast.exposure.exposure_us = 600.0;
+  auto est = make_gvs(fast.cam);
+  cv::Mat img;
+  for (int i = 0; i < 2; ++i) ASSERT_NE(est->estimate(fast.frame(i, img)).method, Method::pair) << "frame " << i;
+  SynthRun run = fast;
+  run.v_mps = {2098.0 * 0.1e-3 * 60.0, 0.0};
+  run.exposure.exposure_us = 100.0;
+  for (int i = 2; i < 12; ++i) {
+    const VelocityEstimate e = est->estimate(run.frame(i, img));
+    EXPECT_NE(e.method, Method::pair) << "frame " << i << " " << e.speed_mps;
+    if (e.has_speed) {
+      EXPECT_NEAR(e.speed_mps, run.v_mps.x, 0.3) << "frame " << i << " " << e.method;
+    }
+  }
 }
 
 }  // namespace

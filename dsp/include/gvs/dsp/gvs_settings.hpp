@@ -45,6 +45,15 @@ struct GvsEstimatorSettings {
   /// those frames' texture (`accel` under: one pair 5.5 % slow at quality 1).
   int pair_pixel_pattern_min_frames = 10;
   double max_accel_mps2 = 20.0;      ///< clamp of the half-frame lag compensation
+  /// A single frame without a speed whose streak is not too long (blur-*)
+  /// tries the pair. With a clearly elongated spectrum (anisotropy >= 0.8:
+  /// a streak of 10 px or more; docs/estimator.md, "Short streaks, faint
+  /// streaks") the pair is taken only if its velocity makes a streak of at
+  /// least this length in this frame: a shorter one means frames that do not
+  /// overlap matched by chance. On ground with a grain of its own (the tiled
+  /// photograph torcs_etrack2) a 15 px streak reads anisotropy >= 0.8 and an
+  /// axis 1-2 deg off, while the pair of the same frames is within 0.2 deg.
+  double pair_min_streak_px_elongated = 8.0;
   // Single-frame blur.
   /// Below: the streak is too short to carry a direction ("short-streak",
   /// quality 0). On asphalt at 0.1 mm/px the spectrum reaches 0.6 at a
