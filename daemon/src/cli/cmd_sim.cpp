@@ -148,6 +148,7 @@ std::string scenario_help() {
       {"const", "speeds 1 .. 140 km/h at a fixed direction of 10 deg, 1 s each (9 s)"},
       {"sine", "60 km/h, direction swinging +-8 deg at 0.5 Hz (10 s)"},
       {"accel", "standing 0.5 s, 0 -> 140 km/h in 6 s, 1 s at 140 km/h (7.5 s)"},
+      {"brake", "100 km/h for 0.5 s, braking to a standstill in 2.5 s (peak 2.1 g), standing 1 s (4 s)"},
       {"skidpad", "skidpad circle, radius 9.125 m at 12 m/s turning left, -3 deg sideslip (8 s)"},
       {"crawl", "crawling 0.1 - 4 m/s with direction changes, reversing, a little yaw (10 s)"},
       {"stop", "standing still 2 s, then pulling away to 5 m/s within 2.5 s (6 s)"},

@@ -76,7 +76,7 @@ struct SimFrame {
   TruthRecord truth;
 };
 
-/// Names of the built-in scenarios: const, sine, accel, skidpad, crawl, stop, spin.
+/// Names of the built-in scenarios: const, sine, accel, brake, skidpad, crawl, stop, spin.
 std::vector<std::string> scenario_names();
 /// Names of the body motions: flat, heave, ride.
 std::vector<std::string> body_motion_names();

@@ -48,8 +48,8 @@ struct Scenario {
   std::function<BodyPose(double t_s)> body = {};
 };
 
-/// Builds a built-in scenario (const, sine, accel, skidpad, crawl, stop,
-/// spin). Throws std::invalid_argument naming the scenario and the known ones.
+/// Builds a built-in scenario (const, sine, accel, brake, skidpad, crawl,
+/// stop, spin). Throws std::invalid_argument naming the scenario and the known ones.
 Scenario make_scenario(const std::string& name);
 
 /// Names of the built-in scenarios.
