@@ -172,7 +172,7 @@ void register_sim(CLI::App& app) {
       ->check(CLI::IsMember(drivers::scenario_names()));
   cmd->add_option("--body", opts->config.body,
                   "Body motion over the scenario: flat (camera at its nominal 60 mm, level), heave (height "
-                  "+-5 mm at 1.3, 2.9 and 4.7 Hz) or ride (heave, pitch 0.75 deg/g up to 1.5 deg and roll 0.6 "
+                  "+-5 mm at 1.3, 2.9 and 4.7 Hz) or ride (heave, pitch 1 deg/g up to 1.5 deg and roll 0.75 "
                   "deg/g up to 1 deg from the scenario's accelerations, a kerb strike of 10 mm in 50 ms every 4 s "
                   "from 1.5 s); truth.csv then has height_mm, pitch_deg, roll_deg (docs/simulator.md)")
       ->check(CLI::IsMember(drivers::body_motion_names()))

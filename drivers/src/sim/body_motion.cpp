@@ -55,9 +55,9 @@ constexpr double kKerbRollDeg = 0.5;  ///< the kerb lifts the left wheels: right
 /// Dynamics", ch. 18): no suspension lag, the heave's sines stand in for the
 /// dynamics. A soft limit (L tanh(x / L)) keeps the scenarios' harsher
 /// transitions (const: up to 8 g in 0.25 s) at the limits the issue names.
-constexpr double kPitchDegPerG = 0.75;
+constexpr double kPitchDegPerG = 1.0;
 constexpr double kPitchLimitDeg = 1.5;
-constexpr double kRollDegPerG = 0.6;
+constexpr double kRollDegPerG = 0.75;
 constexpr double kRollLimitDeg = 1.0;
 double soft_limit(double x, double limit) { return limit * std::tanh(x / limit); }
 

@@ -247,6 +247,8 @@ TEST(SimBodyMotion, RideFollowsTheScenarioLikeACar) {
   // sliding forwards and slowing at 4.5 m/s^2 drops it, and once the car
   // has turned round (sliding backwards, still slowing) lifts it again.
   EXPECT_LT(accel.body(3.5).pitch_deg, -0.5);
+  // Braking at 2.1 g from 100 km/h: the nose down by more than a degree.
+  EXPECT_GT(with_body_motion(make_scenario("brake"), "ride").body(1.75).pitch_deg, 1.2);
   EXPECT_GT(spin.body(1.2).pitch_deg, 0.2);
   EXPECT_LT(spin.body(3.5).pitch_deg, -0.2);
   // Turning left on the skidpad (1.6 g) rolls the body onto its right side.

@@ -59,8 +59,8 @@ std::vector<std::string> builtin_scenario_names();
 ///  - "flat": none (nominal height, level; the scenario as it is);
 ///  - "heave": the height only, +-5 mm at 1.3, 2.9 and 4.7 Hz (sum of sines);
 ///  - "ride": "heave" plus pitch and roll following the scenario's own
-///    accelerations (0.75 deg/g braking/accelerating, limited to 1.5 deg;
-///    0.6 deg/g in corners, limited to 1 deg) and a kerb strike every 4 s
+///    accelerations (1 deg/g braking/accelerating, limited to 1.5 deg;
+///    0.75 deg/g in corners, limited to 1 deg) and a kerb strike every 4 s
 ///    from 1.5 s (up 10 mm in 50 ms, down again in 150 ms, 0.5 deg of roll).
 /// Throws std::invalid_argument naming the body and the known ones.
 Scenario with_body_motion(Scenario scenario, const std::string& body);
