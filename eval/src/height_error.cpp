@@ -28,7 +28,7 @@ std::string line(const HeightBin& b, const char* label) {
     return std::string(buf);
   };
   char out[256];
-  std::snprintf(out, sizeof out, "%-13s %6zu %7s | %7s %7s %7s | %7s | %7s %7s\n", label, b.speed_pct.count,
+  std::snprintf(out, sizeof out, "%-15s %6zu %7s | %7s %7s %7s | %7s | %7s %7s\n", label, b.speed_pct.count,
                 cell(b.height_error_mm, b.height_error_mm.mean, 2).c_str(), cell(b.speed_pct, b.speed_pct.mean, 2).c_str(),
                 cell(b.speed_pct, b.speed_pct.rms, 2).c_str(), cell(b.speed_pct, b.speed_pct.max_abs, 2).c_str(),
                 cell(b.scale_pct, b.scale_pct.mean, 2).c_str(), cell(b.corrected_pct, b.corrected_pct.rms, 2).c_str(),
@@ -107,8 +107,8 @@ std::string format_height_table(const HeightReport& r) {
                 "corrected = speed with the true height):\n",
                 r.nominal_mm);
   std::string out = buf;
-  out += "height error    frames    mean |   speed error (%)       |   scale | corrected (%)\n";
-  out += "(mm)                      (mm) |    mean     rms     max |    mean |     rms     max\n";
+  out += "height error      frames    mean |   speed error (%)       |   scale | corrected (%)\n";
+  out += "(mm)                        (mm) |    mean     rms     max |    mean |     rms     max\n";
   for (const HeightBin& b : r.bins) {
     if (b.speed_pct.count == 0) continue;
     std::snprintf(buf, sizeof buf, "[%+.1f, %+.1f)", b.lo_mm, b.hi_mm);
