@@ -74,6 +74,10 @@ CameraInfo read_camera_json(const fs::path& file) {
     cam.description = j.at("description").get<std::string>();
   }
   if (j.contains("ground") && j.at("ground").is_string()) cam.ground = j.at("ground").get<std::string>();
+  if (j.contains("height_mm")) {
+    cam.height_mm = number("height_mm");
+    if (!(*cam.height_mm > 0.0) || *cam.height_mm > 100000.0) fail(file, "key 'height_mm' must be in (0, 100000] mm");
+  }
   return cam;
 }
 
@@ -152,6 +156,10 @@ std::vector<TruthRecord> read_truth_csv(const fs::path& file) {
     c[i] = cols.find(names[i]);
     if (c[i] < 0) fail_line(file, 1, std::string("header lacks the column '") + names[i] + "'");
   }
+  // Optional body columns (by name, wherever they are; absent: nominal, level).
+  const int c_height = cols.find("height_mm");
+  const int c_pitch = cols.find("pitch_deg");
+  const int c_roll = cols.find("roll_deg");
   std::vector<TruthRecord> rows;
   std::size_t line_no = 1;
   while (std::getline(in, line)) {
@@ -172,6 +180,21 @@ std::vector<TruthRecord> read_truth_csv(const fs::path& file) {
     double dir = 0.0;
     if (parse_double(field(5), dir)) t.direction_deg = dir;
     if (!parse_double(field(6), t.yaw_rate_dps)) t.yaw_rate_dps = std::nan("");
+    // An empty field (or none) is "not known"; anything else must be a number.
+    auto optional = [&](int col, const char* name, std::optional<double>& out) {
+      if (col < 0 || static_cast<std::size_t>(col) >= fields.size() || fields[static_cast<std::size_t>(col)].empty())
+        return;
+      double v = 0.0;
+      if (!parse_double(fields[static_cast<std::size_t>(col)], v) || !std::isfinite(v)) {
+        fail_line(file, line_no, std::string(name) + " '" + std::string(fields[static_cast<std::size_t>(col)]) +
+                                     "' is not a number");
+      }
+      out = v;
+    };
+    optional(c_height, "height_mm", t.height_mm);
+    optional(c_pitch, "pitch_deg", t.pitch_deg);
+    optional(c_roll, "roll_deg", t.roll_deg);
+    if (t.height_mm && !(*t.height_mm > 0.0)) fail_line(file, line_no, "height_mm must be > 0");
     if (!rows.empty() && t.index <= rows.back().index) {
       fail_line(file, line_no, "index " + std::to_string(t.index) + " does not increase");
     }

@@ -45,8 +45,9 @@ std::string format_pulses(const core::ExposurePlan& plan) {
   return s;
 }
 
-DatasetWriter::DatasetWriter(const fs::path& folder, const CameraInfo& camera, bool with_truth)
-    : folder_(folder), with_truth_(with_truth) {
+DatasetWriter::DatasetWriter(const fs::path& folder, const CameraInfo& camera, bool with_truth,
+                             bool with_body_pose)
+    : folder_(folder), with_truth_(with_truth), with_body_pose_(with_body_pose) {
   std::error_code ec;
   fs::create_directories(folder / "frames", ec);
   if (ec) throw DatasetError((folder / "frames").string() + ": cannot create folder: " + ec.message());
@@ -59,6 +60,7 @@ DatasetWriter::DatasetWriter(const fs::path& folder, const CameraInfo& camera, b
   j["mount_yaw_deg"] = camera.geometry.mount_yaw_deg;
   j["description"] = camera.description;
   if (!camera.ground.empty()) j["ground"] = camera.ground;
+  if (camera.height_mm) j["height_mm"] = *camera.height_mm;
   std::ofstream cam = open_for_writing(folder / "camera.json");
   cam << j.dump(2) << '\n';
 
@@ -66,7 +68,8 @@ DatasetWriter::DatasetWriter(const fs::path& folder, const CameraInfo& camera, b
   frames_csv_ << "index,file,t_ns,exposure_us,pulses\n";
   if (with_truth_) {
     truth_csv_ = open_for_writing(folder / "truth.csv");
-    truth_csv_ << "index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps\n";
+    truth_csv_ << "index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps"
+               << (with_body_pose_ ? ",height_mm,pitch_deg,roll_deg\n" : "\n");
   } else {
     std::error_code ignore;
     fs::remove(folder / "truth.csv", ignore);
@@ -97,7 +100,14 @@ void DatasetWriter::write_truth(const TruthRecord& t) {
   truth_csv_ << t.index << ',' << t.t_ns << ',' << format_number(t.vx_mps, 6) << ','
              << format_number(t.vy_mps, 6) << ',' << format_number(t.speed_mps, 6) << ','
              << (t.direction_deg ? format_number(*t.direction_deg, 6) : std::string()) << ','
-             << (std::isfinite(t.yaw_rate_dps) ? format_number(t.yaw_rate_dps, 6) : std::string()) << '\n';
+             << (std::isfinite(t.yaw_rate_dps) ? format_number(t.yaw_rate_dps, 6) : std::string());
+  if (with_body_pose_) {
+    const auto optional = [](const std::optional<double>& v) {
+      return v && std::isfinite(*v) ? format_number(*v, 6) : std::string();
+    };
+    truth_csv_ << ',' << optional(t.height_mm) << ',' << optional(t.pitch_deg) << ',' << optional(t.roll_deg);
+  }
+  truth_csv_ << '\n';
   if (!truth_csv_) throw DatasetError((folder_ / "truth.csv").string() + ": write failed (disk full?)");
 }
 

@@ -112,6 +112,106 @@ TEST(Dataset, WriterAndReaderRoundTrip) {
   EXPECT_NEAR(r.truth()[1].yaw_rate_dps, 3.5, 1e-9);
 }
 
+TEST(Dataset, BodyPoseTruthRoundTripsWithEmptyFieldsAbsent) {
+  // truth.csv's optional height_mm, pitch_deg, roll_deg (shared/spec/dataset-format.md).
+  const fs::path dir = fresh_dir("body");
+  CameraInfo cam;
+  cam.geometry = {32, 24, 0.1, 0.0};
+  cam.height_mm = 61.5;
+  {
+    DatasetWriter w(dir, cam, true, /*with_body_pose=*/true);
+    for (int i = 0; i < 2; ++i) {
+      FrameRecord r;
+      r.index = i;
+      r.t_ns = 1000 * (i + 1);
+      r.exposure.exposure_us = 100.0;
+      w.write_frame(noise_image(32, 24, 3), r);
+      TruthRecord t;
+      t.index = i;
+      t.t_ns = r.t_ns;
+      t.vx_mps = 5.0;
+      if (i == 0) {
+        t.height_mm = 57.123456;
+        t.pitch_deg = -1.234567;
+        t.roll_deg = 0.876543;
+      } else {
+        t.height_mm = 64.5;  // pitch and roll unknown: empty fields
+      }
+      w.write_truth(t);
+    }
+  }
+  std::ifstream header_file(dir / "truth.csv");
+  std::string header;
+  std::getline(header_file, header);
+  EXPECT_EQ(header, "index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps,height_mm,pitch_deg,roll_deg");
+  const DatasetReader r(dir);
+  ASSERT_TRUE(r.camera().height_mm.has_value());
+  EXPECT_DOUBLE_EQ(*r.camera().height_mm, 61.5);
+  ASSERT_EQ(r.truth().size(), 2U);
+  ASSERT_TRUE(r.truth()[0].height_mm && r.truth()[0].pitch_deg && r.truth()[0].roll_deg);
+  EXPECT_NEAR(*r.truth()[0].height_mm, 57.123456, 1e-9);
+  EXPECT_NEAR(*r.truth()[0].pitch_deg, -1.234567, 1e-9);
+  EXPECT_NEAR(*r.truth()[0].roll_deg, 0.876543, 1e-9);
+  ASSERT_TRUE(r.truth()[1].height_mm.has_value());
+  EXPECT_NEAR(*r.truth()[1].height_mm, 64.5, 1e-9);
+  EXPECT_FALSE(r.truth()[1].pitch_deg.has_value());
+  EXPECT_FALSE(r.truth()[1].roll_deg.has_value());
+}
+
+TEST(Dataset, TruthWithoutBodyColumnsReadsAsBeforeAndUnknownColumnsAreIgnored) {
+  // A writer without body motion writes the seven columns only, and camera.json without height_mm.
+  const fs::path dir = fresh_dir("nobody");
+  {
+    CameraInfo cam;
+    cam.geometry = {32, 24, 0.1, 0.0};
+    DatasetWriter w(dir, cam, true);
+    FrameRecord r;
+    r.exposure.exposure_us = 100.0;
+    w.write_frame(noise_image(32, 24, 3), r);
+    TruthRecord t;
+    t.vx_mps = 2.0;
+    t.height_mm = 70.0;  // not written: the file has no such column
+    w.write_truth(t);
+  }
+  {
+    std::ifstream in(dir / "truth.csv");
+    std::string header;
+    std::getline(in, header);
+    EXPECT_EQ(header, "index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps");
+    std::ifstream cam_in(dir / "camera.json");
+    std::string json;
+    for (std::string line; std::getline(cam_in, line);) json += line + '\n';
+    EXPECT_EQ(json.find("height_mm"), std::string::npos) << json;
+  }
+  const DatasetReader old_style(dir);
+  ASSERT_EQ(old_style.truth().size(), 1U);
+  EXPECT_NEAR(old_style.truth()[0].vx_mps, 2.0, 1e-12);
+  EXPECT_FALSE(old_style.truth()[0].height_mm.has_value());
+  EXPECT_FALSE(old_style.truth()[0].pitch_deg.has_value());
+  EXPECT_FALSE(old_style.truth()[0].roll_deg.has_value());
+  EXPECT_FALSE(old_style.camera().height_mm.has_value());
+
+  // A third party's file: the columns found by name, an unknown one in between ignored.
+  write_text(dir / "truth.csv",
+             "index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps,lap,roll_deg,height_mm\n"
+             "0,1500000,2,0,2,0,0,7,-0.25,59.5\n");
+  const DatasetReader third(dir);
+  ASSERT_EQ(third.truth().size(), 1U);
+  EXPECT_NEAR(*third.truth()[0].height_mm, 59.5, 1e-12);
+  EXPECT_NEAR(*third.truth()[0].roll_deg, -0.25, 1e-12);
+  EXPECT_FALSE(third.truth()[0].pitch_deg.has_value());
+
+  // Not a number, or a height that is not above the ground: named.
+  write_text(dir / "truth.csv",
+             "index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps,height_mm,pitch_deg,roll_deg\n"
+             "0,1500000,2,0,2,0,0,60,nose,0\n");
+  expect_error(dir, "truth.csv:2: pitch_deg 'nose' is not a number");
+  write_text(dir / "truth.csv",
+             "index,t_ns,vx_mps,vy_mps,speed_mps,direction_deg,yaw_rate_dps,height_mm\n"
+             "0,1500000,2,0,2,0,0,-3\n");
+  expect_error(dir, "truth.csv:2: height_mm must be > 0");
+}
+
 TEST(Dataset, ReadsThirdPartyDatasetWithColourPngGapsAndPulses) {
   const fs::path dir = handmade_dataset("handmade");
   const DatasetReader r(dir);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "gvs/eval/accuracy.hpp"
+#include "gvs/eval/height_error.hpp"
 
 using gvs::eval::evaluate_accuracy;
 using gvs::drivers::EstimateRow;
@@ -141,4 +142,54 @@ TEST(Accuracy, SpeedsOffByMoreThanFivePercentAreCountedPerBand) {
   EXPECT_EQ(r.all.speed_off, 2U);
   EXPECT_NE(gvs::eval::format_accuracy_table(r).find("off>5"), std::string::npos);
   EXPECT_NE(gvs::eval::format_accuracy_json(r).find("\"speed_off_5pct\": 2"), std::string::npos);
+}
+
+TEST(SpeedVsHeight, BinsTheSpeedErrorByHeightErrorAndCorrectsTheScale) {
+  // An estimator that assumes 60 mm reads 60/H of the speed; one frame
+  // without a height counts as nominal; a frame without a speed and a
+  // standing frame do not count.
+  std::vector<TruthRecord> t;
+  std::vector<EstimateRow> e;
+  const double heights[] = {55.0, 60.0, 65.0, 65.0};
+  for (int i = 0; i < 4; ++i) {
+    t.push_back(truth(i, 36.0, 0.0));
+    t.back().height_mm = heights[i];
+    e.push_back(estimate(i, 36.0 * 60.0 / heights[i] * (i == 3 ? 1.01 : 1.0), 0.0));
+  }
+  t.push_back(truth(4, 36.0, 0.0));  // no height: nominal
+  e.push_back(estimate(4, 36.0, 0.0));
+  t.push_back(truth(5, 36.0, 0.0));
+  t.back().height_mm = 70.0;
+  e.push_back(estimate(5, std::nullopt, 0.0));  // no speed
+  t.push_back(truth(6, 0.0, std::nullopt));
+  t.back().height_mm = 70.0;
+  e.push_back(estimate(6, 0.0, std::nullopt));  // standing
+
+  const auto r = gvs::eval::evaluate_speed_vs_height(t, e, 60.0);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->all.speed_pct.count, 5U);
+  const auto& edges = gvs::eval::height_bin_edges_mm();
+  auto bin_of = [&](double dh) {
+    for (std::size_t i = 0; i + 1 < edges.size(); ++i)
+      if (dh >= edges[i] && dh < edges[i + 1]) return i;
+    return edges.size();
+  };
+  const auto& up = r->bins[bin_of(5.0)];
+  ASSERT_EQ(up.speed_pct.count, 2U);
+  EXPECT_NEAR(up.height_error_mm.mean, 5.0, 1e-12);
+  EXPECT_NEAR(up.scale_pct.mean, (60.0 / 65.0 - 1.0) * 100.0, 1e-9);
+  EXPECT_NEAR(up.speed_pct.mean, ((60.0 / 65.0) * 1.005 - 1.0) * 100.0, 1e-9);
+  // Corrected with the true height: exact, and 1 % off for the frame that was.
+  EXPECT_NEAR(up.corrected_pct.max_abs, 1.0, 1e-9);
+  const auto& down = r->bins[bin_of(-5.0)];
+  ASSERT_EQ(down.speed_pct.count, 1U);
+  EXPECT_NEAR(down.speed_pct.mean, (60.0 / 55.0 - 1.0) * 100.0, 1e-9);
+  EXPECT_NEAR(down.corrected_pct.max_abs, 0.0, 1e-9);
+  EXPECT_EQ(r->bins[bin_of(0.0)].speed_pct.count, 2U);
+  // About -100/60 % per mm.
+  EXPECT_NEAR(r->slope_pct_per_mm, -1.66, 0.15);
+  EXPECT_NE(gvs::eval::format_height_table(*r).find("slope"), std::string::npos);
+
+  // No heights in the truth: no report.
+  EXPECT_FALSE(gvs::eval::evaluate_speed_vs_height({truth(0, 36.0, 0.0)}, {estimate(0, 36.0, 0.0)}, 60.0));
 }

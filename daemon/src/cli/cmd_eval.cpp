@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "gvs/eval/accuracy.hpp"
+#include "gvs/eval/height_error.hpp"
 #include "gvs/eval/speed_gaps.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
@@ -86,6 +87,12 @@ void run_eval(const EvalOptions& o) {
   const auto estimates = drivers::read_estimates_csv(o.estimates);
   const eval::AccuracyReport report = eval::evaluate_accuracy(dataset.truth(), estimates);
   std::printf("%s", eval::format_accuracy_table(report).c_str());
+  // A run with body motion: the speed error against the camera's height
+  // (camera.json's nominal height; 60 mm, the design's, when it has none).
+  if (const auto height = eval::evaluate_speed_vs_height(dataset.truth(), estimates,
+                                                         dataset.camera().height_mm.value_or(60.0))) {
+    std::printf("%s", eval::format_height_table(*height).c_str());
+  }
   const std::string speed_gaps = eval::format_speed_gaps(eval::find_speed_gaps(dataset, estimates));
   std::printf("%s", speed_gaps.c_str());
   if (!o.json.empty()) {

@@ -86,11 +86,14 @@ void run_sim(const SimOptions& o) {
   drivers::CameraInfo camera;
   camera.geometry = config.camera;
   camera.ground = sim.config().ground;
+  camera.height_mm = config.camera_height_mm;
   camera.description = "gvs sim --scenario " + config.scenario + " --seed " + std::to_string(config.seed);
+  if (config.body != "flat") camera.description += " --body " + config.body;
   if (camera.ground != "procedural") camera.description += " --ground " + camera.ground;
   install_stop_signals();  // before the staging folder exists, so Ctrl-C always cleans it up
   StagingFolder staging(o.out);
-  drivers::DatasetWriter writer(staging.path(), camera, /*with_truth=*/true);
+  drivers::DatasetWriter writer(staging.path(), camera, /*with_truth=*/true,
+                                /*with_body_pose=*/sim.has_body_motion());
 
   // Closed loop: the estimator measures each frame as gvsd would, and the
   // exposure controller plans the next frame's exposure from that estimate.
@@ -133,8 +136,10 @@ void run_sim(const SimOptions& o) {
     throw Interrupted{};
   }
   staging.commit();
-  std::printf("wrote %zu frames of scenario '%s' (exposure %s, ground %s) to %s\n", count, config.scenario.c_str(),
-              o.exposure_mode.c_str(), camera.ground.c_str(), o.out.c_str());
+  std::printf("wrote %zu frames of scenario '%s'%s%s (exposure %s, ground %s) to %s\n", count,
+              config.scenario.c_str(), config.body != "flat" ? " with body motion " : "",
+              config.body != "flat" ? config.body.c_str() : "", o.exposure_mode.c_str(), camera.ground.c_str(),
+              o.out.c_str());
 }
 
 /// What each scenario drives, for --help (drivers/src/sim/scenarios.cpp).
@@ -143,6 +148,7 @@ std::string scenario_help() {
       {"const", "speeds 1 .. 140 km/h at a fixed direction of 10 deg, 1 s each (9 s)"},
       {"sine", "60 km/h, direction swinging +-8 deg at 0.5 Hz (10 s)"},
       {"accel", "standing 0.5 s, 0 -> 140 km/h in 6 s, 1 s at 140 km/h (7.5 s)"},
+      {"brake", "100 km/h for 0.5 s, braking to a standstill in 2.5 s (peak 2.1 g), standing 1 s (4 s)"},
       {"skidpad", "skidpad circle, radius 9.125 m at 12 m/s turning left, -3 deg sideslip (8 s)"},
       {"crawl", "crawling 0.1 - 4 m/s with direction changes, reversing, a little yaw (10 s)"},
       {"stop", "standing still 2 s, then pulling away to 5 m/s within 2.5 s (6 s)"},
@@ -164,6 +170,13 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--scenario", opts->config.scenario, scenario_help())
       ->required()
       ->check(CLI::IsMember(drivers::scenario_names()));
+  cmd->add_option("--body", opts->config.body,
+                  "Body motion over the scenario: flat (camera at its nominal 60 mm, level), heave (height "
+                  "+-5 mm at 1.3, 2.9 and 4.7 Hz) or ride (heave, pitch 1 deg/g up to 1.5 deg and roll 0.75 "
+                  "deg/g up to 1 deg from the scenario's accelerations, a kerb strike of 10 mm in 50 ms every 4 s "
+                  "from 1.5 s); truth.csv then has height_mm, pitch_deg, roll_deg (docs/simulator.md)")
+      ->check(CLI::IsMember(drivers::body_motion_names()))
+      ->capture_default_str();
   cmd->add_option("--out", opts->out, "Dataset folder to write (created; an existing non-empty one needs --force)")
       ->required();
   cmd->add_flag("--force", opts->force, "Replace an existing dataset folder at --out");

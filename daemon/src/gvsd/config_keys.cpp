@@ -34,7 +34,7 @@ std::vector<std::string> log_levels() { return log_level_names(); }
 const std::array kSections{
     ConfigSection{"source",
                   "Where frames come from:\n"
-                  "  sim:SCENARIO    the simulator (const, sine, accel, skidpad, crawl, stop, spin), looping\n"
+                  "  sim:SCENARIO    the simulator (const, sine, accel, brake, skidpad, crawl, stop, spin), looping\n"
                   "  replay:DIR      a gvs-dataset folder, paced by its timestamps; gvsd stops at its end\n"
                   "  libcamera[:ID]  the real camera: by id, or the first one; see [libcamera]"},
     ConfigSection{"can",

@@ -5,7 +5,9 @@
 // the raster rows (prefix sums of the linearly interpolated rows). A pixel's
 // exposure is then a sum over path segments of differences of prefix sums:
 // O(1) per segment, whatever the blur length.
+#include "camera_view.hpp"
 #include "exposure.hpp"
+#include "exposure_knots.hpp"
 #include "parallel.hpp"
 
 #include <algorithm>
@@ -13,6 +15,8 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
 
 #include <opencv2/core/utility.hpp>
 
@@ -22,53 +26,6 @@ namespace {
 constexpr float kOffset = 0.3f;  ///< subtracted before the prefix sums (float precision)
 constexpr int kMargin = 6;       ///< raster margin for the PSF and interpolation, raster px
 constexpr int kPsfRadius = 3;    ///< PSF taps: -3..3 raster px (sigma 1 raster px)
-constexpr double kMaxDepth = 12;
-
-struct CameraFrame {
-  double s_mm;
-  double rc;  ///< image centre row
-  double cc;  ///< image centre column
-  double mount_rad;
-  int width;
-  int height;
-};
-
-/// World point (mm) seen by pixel (r, c) at pose p.
-void pixel_world(const CameraFrame& cam, const Pose& p, double r, double c, double& x, double& y) {
-  const double xc = -(r - cam.rc) * cam.s_mm;
-  const double yc = -(c - cam.cc) * cam.s_mm;
-  const double phi = p.yaw_rad + cam.mount_rad;
-  const double cp = std::cos(phi);
-  const double sp = std::sin(phi);
-  x = p.x_m * 1000.0 + cp * xc - sp * yc;
-  y = p.y_m * 1000.0 + sp * xc + cp * yc;
-}
-
-/// Adds knots in (ta, tb] so that every corner's path deviates less than tol_mm
-/// from its chord on each piece (the deviation is affine in the pixel position,
-/// so the corners bound it over the image).
-void subdivide(const Trajectory& traj, const CameraFrame& cam, double ta, const Pose& pa, double tb,
-               const Pose& pb, double tol_mm, int depth, std::vector<std::pair<double, Pose>>& out) {
-  const double tm = 0.5 * (ta + tb);
-  const Pose pm = traj.pose(tm);
-  double worst = 0.0;
-  for (const double r : {-0.5, cam.height - 0.5}) {
-    for (const double c : {-0.5, cam.width - 0.5}) {
-      double xa, ya, xb, yb, xm, ym;
-      pixel_world(cam, pa, r, c, xa, ya);
-      pixel_world(cam, pb, r, c, xb, yb);
-      pixel_world(cam, pm, r, c, xm, ym);
-      worst = std::max(worst, std::hypot(xm - 0.5 * (xa + xb), ym - 0.5 * (ya + yb)));
-    }
-  }
-  if (worst > tol_mm && depth < kMaxDepth) {
-    subdivide(traj, cam, ta, pa, tm, pm, tol_mm, depth + 1, out);
-    subdivide(traj, cam, tm, pm, tb, pb, tol_mm, depth + 1, out);
-  } else {
-    out.emplace_back(tb, pb);
-  }
-}
-
 /// Prefix integral of one row at fractional column k + t (linear interpolation between samples).
 inline float prefix_at(const float* s, const float* f, int k, float t) {
   return s[2 * k] + t * (f[2 * k] + 0.5f * t * (f[2 * k + 2] - f[2 * k]));
@@ -154,31 +111,41 @@ inline float segment_mean(const Lookup& lut, double ja, double ia, double jb, do
 }  // namespace
 
 void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory,
-                              const core::CameraGeometry& camera,
+                              const core::CameraGeometry& camera, double camera_height_mm,
                               const std::vector<LightInterval>& light, cv::Mat& out) {
   if (light.empty()) throw std::invalid_argument("simulator: exposure without light");
-  const CameraFrame cam{camera.mm_per_px, (camera.height_px - 1) / 2.0, (camera.width_px - 1) / 2.0,
-                        camera.mount_yaw_deg * 3.14159265358979323846 / 180.0, camera.width_px,
-                        camera.height_px};
+  const CameraFrame cam{camera.mm_per_px,
+                        (camera.height_px - 1) / 2.0,
+                        (camera.width_px - 1) / 2.0,
+                        camera.mount_yaw_deg * 3.14159265358979323846 / 180.0,
+                        camera.width_px,
+                        camera.height_px,
+                        camera_height_mm};
   const double h = camera.mm_per_px / supersample_;
 
   // 1. Knots of every light interval.
-  std::vector<std::pair<double, Pose>> poses;
+  std::vector<PoseAt> poses;
   std::vector<std::size_t> begin;
   for (const LightInterval& iv : light) {
     begin.push_back(poses.size());
-    const Pose pa = trajectory.pose(iv.t0_s);
-    const Pose pb = trajectory.pose(iv.t1_s);
-    poses.emplace_back(iv.t0_s, pa);
-    subdivide(trajectory, cam, iv.t0_s, pa, iv.t1_s, pb, kPathTolerancePx * camera.mm_per_px, 0,
-              poses);
+    const PoseAt a{iv.t0_s, trajectory.pose(iv.t0_s), trajectory.body(iv.t0_s)};
+    const PoseAt b{iv.t1_s, trajectory.pose(iv.t1_s), trajectory.body(iv.t1_s)};
+    poses.push_back(a);
+    subdivide(trajectory, cam, a, b, kPathTolerancePx * camera.mm_per_px, 0, poses);
   }
   begin.push_back(poses.size());
+  bool projective = false;
+  for (const PoseAt& k : poses) {
+    if (!(cam.height_mm + k.body.heave_mm > 0.05 * cam.height_mm))
+      throw std::invalid_argument("simulator: body motion puts the camera on the ground (height " +
+                                  std::to_string(cam.height_mm + k.body.heave_mm) + " mm)");
+    projective = projective || !is_level(k.body);
+  }
 
   // 2. Raster orientation: along the travel of the image centre, else the image rows.
   double cx0, cy0, cx1, cy1;
-  pixel_world(cam, poses.front().second, cam.rc, cam.cc, cx0, cy0);
-  pixel_world(cam, poses.back().second, cam.rc, cam.cc, cx1, cy1);
+  pixel_world(cam, poses.front().pose, poses.front().body, cam.rc, cam.cc, cx0, cy0);
+  pixel_world(cam, poses.back().pose, poses.back().body, cam.rc, cam.cc, cx1, cy1);
   RasterGrid grid;
   grid.spacing_mm = h;
   grid.spacing_u_mm = h;
@@ -188,8 +155,10 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
     double shortest = 1e300;
     for (std::size_t iv = 0; iv + 1 < begin.size(); ++iv) {
       double xa, ya, xb, yb;
-      pixel_world(cam, poses[begin[iv]].second, cam.rc, cam.cc, xa, ya);
-      pixel_world(cam, poses[begin[iv + 1] - 1].second, cam.rc, cam.cc, xb, yb);
+      const PoseAt& a = poses[begin[iv]];
+      const PoseAt& b = poses[begin[iv + 1] - 1];
+      pixel_world(cam, a.pose, a.body, cam.rc, cam.cc, xa, ya);
+      pixel_world(cam, b.pose, b.body, cam.rc, cam.cc, xb, yb);
       shortest = std::min(shortest, std::hypot(xb - xa, yb - ya) / camera.mm_per_px);
     }
     if (shortest >= coarse_min_blur_px_) grid.spacing_u_mm = camera.mm_per_px;
@@ -199,18 +168,25 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
     grid.ux = (cx1 - cx0) / travel;
     grid.uy = (cy1 - cy0) / travel;
   } else {
-    const double phi = poses.front().second.yaw_rad + cam.mount_rad;
+    const double phi = poses.front().pose.yaw_rad + cam.mount_rad;
     grid.ux = -std::cos(phi);  // camera -x: the direction of increasing image row
     grid.uy = -std::sin(phi);
   }
 
-  // 3. Raster bounds over all knots' image corners (world-aligned integer origin).
+  // 3. Raster bounds over all knots' image corners (world-aligned integer
+  // origin; a tilted view is a convex quadrilateral, so its corners bound it too).
   double jmin = 1e300, jmax = -1e300, imin = 1e300, imax = -1e300;
-  for (const auto& [t, p] : poses) {
+  for (const PoseAt& k : poses) {
     for (const double r : {-0.5, cam.height - 0.5}) {
       for (const double c : {-0.5, cam.width - 0.5}) {
         double x, y, j, i;
-        pixel_world(cam, p, r, c, x, y);
+        if (!is_level(k.body)) {
+          const ViewMap m = view_map(cam, k.pose, k.body);
+          // The corner's ray must meet the ground in front of the camera.
+          if (!(m.w00 + r * m.wr + c * m.wc > 0.1))
+            throw std::invalid_argument("simulator: body tilt makes the camera see the horizon");
+        }
+        pixel_world(cam, k.pose, k.body, r, c, x, y);
         grid.to_raster(x, y, j, i);
         jmin = std::min(jmin, j);
         jmax = std::max(jmax, j);
@@ -226,15 +202,21 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
   if (static_cast<double>(grid.cols) * grid.rows > 4.0e8)
     throw std::invalid_argument("simulator: motion during the exposure too long to render");
 
-  // 4. Knots as affine maps pixel -> raster coordinates.
+  // 4. Knots as maps pixel -> raster coordinates: affine for a level body,
+  // projective for a tilted one.
   knots_.clear();
-  for (const auto& [t, p] : poses) {
+  for (const PoseAt& pk : poses) {
+    if (projective) {
+      knots_.push_back(projective_knot(pk.t_s, view_map(cam, pk.pose, pk.body), grid));
+      continue;
+    }
+    const Pose& p = pk.pose;
     double x0, y0, xr, yr, xc, yc;
-    pixel_world(cam, p, 0.0, 0.0, x0, y0);
-    pixel_world(cam, p, 1.0, 0.0, xr, yr);
-    pixel_world(cam, p, 0.0, 1.0, xc, yc);
+    pixel_world(cam, p, pk.body, 0.0, 0.0, x0, y0);
+    pixel_world(cam, p, pk.body, 1.0, 0.0, xr, yr);
+    pixel_world(cam, p, pk.body, 0.0, 1.0, xc, yc);
     Knot k{};
-    k.t_s = t;
+    k.t_s = pk.t_s;
     grid.to_raster(x0, y0, k.j00, k.i00);
     double j, i;
     grid.to_raster(xr, yr, j, i);
@@ -246,6 +228,9 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
     knots_.push_back(k);
   }
   interval_begin_ = begin;
+
+  // Scale of the view at the middle knot against the nominal height (1 exactly without body motion).
+  const double psf_scale = level_scale(cam, poses[poses.size() / 2].body);
 
   // 5. Texture, PSF and prefix sums, in parallel row strips.
   const int rows = grid.rows;
@@ -269,7 +254,8 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
                            grid.v0 == last_grid_.v0 && grid.ux == last_grid_.ux &&
                            grid.uy == last_grid_.uy && grid.spacing_mm == last_grid_.spacing_mm &&
                            grid.spacing_u_mm == last_grid_.spacing_u_mm &&
-                           grid.rows == last_grid_.rows && grid.cols == last_grid_.cols;
+                           grid.rows == last_grid_.rows && grid.cols == last_grid_.cols &&
+                           psf_scale == last_psf_scale_;
   stats_.texture_ms = 0.0;
   if (!same_raster) {
     for_strips(parallel_, cv::Range(0, strips), [&](const cv::Range& range) {
@@ -293,8 +279,9 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
             static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)) / sum);
       return t;
     };
-    const auto w = taps(kPsfSigmaPx * camera.mm_per_px / grid.spacing_mm);
-    const auto wu = taps(kPsfSigmaPx * camera.mm_per_px / grid.spacing_u_mm);
+    // The PSF is fixed in the image: on the ground it grows with the height.
+    const auto w = taps(kPsfSigmaPx * camera.mm_per_px * psf_scale / grid.spacing_mm);
+    const auto wu = taps(kPsfSigmaPx * camera.mm_per_px * psf_scale / grid.spacing_u_mm);
     // One raster row r blurred by the PSF into dst's f slots (vert: cols floats of scratch).
     auto psf_row = [&](int r, float* vert, float* dst) {
       // Vertical pass (rows clamped at the raster edge; the margin keeps it out of view).
@@ -345,11 +332,12 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
   }
   ground_id_ = &ground;
   last_grid_ = grid;
+  last_psf_scale_ = psf_scale;
   stats_.psf_ms = ms_since(t_stage);
   t_stage = Clock::now();
   // 6. Path integrals per pixel.
   out.create(camera.height_px, camera.width_px, CV_32FC1);
-  if (supersample_ == 1.0 &&
+  if (supersample_ == 1.0 && !projective &&
       integrate_translating(cells_.data(), rows, cols, knots_, interval_begin_, kOffset, parallel_, box_, out)) {
     stats_.integrate_ms = ms_since(t_stage);
     stats_.raster_rows = rows;
@@ -364,30 +352,49 @@ void ExposureRenderer::render(const Ground& ground, const Trajectory& trajectory
   const std::size_t n_intervals = light.size();
   const int height = camera.height_px;
   const int width = camera.width_px;
-  for_strips(parallel_, cv::Range(0, height), [&](const cv::Range& range) {
-    for (int r = range.start; r < range.end; ++r) {
-      float* dst = out.ptr<float>(r);
-      for (int c = 0; c < width; ++c) {
-        double acc = 0.0;
-        for (std::size_t iv = 0; iv < n_intervals; ++iv) {
-          const std::size_t k0 = interval_begin_[iv];
-          const std::size_t k1 = interval_begin_[iv + 1];
-          const Knot* kn = &knots_[k0];
-          double ja = kn->j00 + r * kn->jr + c * kn->jc;
-          double ia = kn->i00 + r * kn->ir + c * kn->ic;
-          for (std::size_t k = k0 + 1; k < k1; ++k) {
-            const Knot& kb = knots_[k];
-            const double jb = kb.j00 + r * kb.jr + c * kb.jc;
-            const double ib = kb.i00 + r * kb.ir + c * kb.ic;
-            acc += (kb.t_s - knots_[k - 1].t_s) * static_cast<double>(segment_mean(lut, ja, ia, jb, ib));
-            ja = jb;
-            ia = ib;
-          }
-        }
-        dst[c] = kOffset + static_cast<float>(acc / lit);
+  // Raster point of pixel (r, c) at knot k: affine, or divided by the
+  // knot's w for a tilted body (instantiated separately, so the level case
+  // runs the same instructions as before body motion existed).
+  const auto integrate = [&](auto projective_tag) {
+    constexpr bool kProjective = decltype(projective_tag)::value;
+    const auto at = [](const Knot& k, int r, int c, double& j, double& i) {
+      j = k.j00 + r * k.jr + c * k.jc;
+      i = k.i00 + r * k.ir + c * k.ic;
+      if constexpr (kProjective) {
+        const double inv_w = 1.0 / (k.w00 + r * k.wr + c * k.wc);
+        j *= inv_w;
+        i *= inv_w;
       }
-    }
-  }, 16);
+    };
+    for_strips(parallel_, cv::Range(0, height), [&](const cv::Range& range) {
+      for (int r = range.start; r < range.end; ++r) {
+        float* dst = out.ptr<float>(r);
+        for (int c = 0; c < width; ++c) {
+          double acc = 0.0;
+          for (std::size_t iv = 0; iv < n_intervals; ++iv) {
+            const std::size_t k0 = interval_begin_[iv];
+            const std::size_t k1 = interval_begin_[iv + 1];
+            double ja, ia;
+            at(knots_[k0], r, c, ja, ia);
+            for (std::size_t k = k0 + 1; k < k1; ++k) {
+              const Knot& kb = knots_[k];
+              double jb, ib;
+              at(kb, r, c, jb, ib);
+              acc += (kb.t_s - knots_[k - 1].t_s) * static_cast<double>(segment_mean(lut, ja, ia, jb, ib));
+              ja = jb;
+              ia = ib;
+            }
+          }
+          dst[c] = kOffset + static_cast<float>(acc / lit);
+        }
+      }
+    }, 16);
+  };
+  if (projective) {
+    integrate(std::true_type{});
+  } else {
+    integrate(std::false_type{});
+  }
 
   stats_.integrate_ms = ms_since(t_stage);
   stats_.raster_rows = rows;

@@ -33,9 +33,12 @@ class ExposureRenderer {
 
   /// Writes into `out` (CV_32FC1, height x width) the reflectance of `ground`
   /// each pixel saw, averaged over the light intervals (time-weighted).
-  void render(const Ground& ground, const Trajectory& trajectory,
-              const core::CameraGeometry& camera, const std::vector<LightInterval>& light,
-              cv::Mat& out);
+  /// `camera.mm_per_px` holds at `camera_height_mm`, the nominal height; the
+  /// trajectory's body pose moves and tilts the camera from there
+  /// (camera_view.hpp). Throws std::invalid_argument when the body pose puts
+  /// the camera on the ground or its view up to the horizon.
+  void render(const Ground& ground, const Trajectory& trajectory, const core::CameraGeometry& camera,
+              double camera_height_mm, const std::vector<LightInterval>& light, cv::Mat& out);
 
   [[nodiscard]] const ExposureStats& stats() const { return stats_; }
 
@@ -56,11 +59,14 @@ class ExposureRenderer {
   }
   [[nodiscard]] bool parallel() const { return parallel_; }
 
-  /// Raster coordinates of pixel (r, c) at one instant: j = j00 + r jr + c jc, same for i.
+  /// Raster coordinates of pixel (r, c) at one instant: j = j00 + r jr + c jc,
+  /// same for i; for a tilted body both divided by w = w00 + r wr + c wc
+  /// (a homography; level: w = 1 and unused).
   struct Knot {
     double t_s;
     double j00, jr, jc;
     double i00, ir, ic;
+    double w00 = 1.0, wr = 0.0, wc = 0.0;
   };
 
  private:
@@ -78,6 +84,7 @@ class ExposureRenderer {
   bool parallel_ = true;               ///< cv::parallel_for_ (else the calling thread only)
   const Ground* ground_id_ = nullptr;  ///< ground and grid of cells_
   RasterGrid last_grid_;
+  double last_psf_scale_ = 1.0;  ///< the PSF of cells_ (height / nominal)
 };
 
 /// The live fast render's path integrals (exposure_translate.cpp): when every

@@ -102,6 +102,16 @@ Scenario stop_scenario() {
   return {"stop", 6.0, [](double t) { return polar(5.0 * smooth((t - 2.0) / 2.5), 0.0); }};
 }
 
+/// 100 km/h for 0.5 s, braking to a standstill within 2.5 s (smooth: the
+/// deceleration peaks at 20.8 m/s^2, 2.1 g, at 1.75 s, as an FS car with
+/// aero and slicks brakes from that speed), standing for the last second.
+Scenario brake_scenario() {
+  return {"brake", 4.0, [](double t) {
+            // (max: smooth() may round to a hair above 1, which would be a backwards crawl.)
+            return polar(100.0 / 3.6 * std::max(0.0, 1.0 - smooth((t - 0.5) / 2.5)), 0.0);
+          }};
+}
+
 /// Sliding at 15 m/s (decelerating at 4.5 m/s^2 once the spin starts) while
 /// the car rotates through 180 deg CCW between 1 s and 3 s; the world velocity
 /// keeps its direction, so in vehicle axes the direction sweeps 0 -> -180 deg
@@ -119,13 +129,14 @@ Scenario spin_scenario() {
 }  // namespace
 
 std::vector<std::string> builtin_scenario_names() {
-  return {"const", "sine", "accel", "skidpad", "crawl", "stop", "spin"};
+  return {"const", "sine", "accel", "brake", "skidpad", "crawl", "stop", "spin"};
 }
 
 Scenario make_scenario(const std::string& name) {
   if (name == "const") return const_scenario();
   if (name == "sine") return sine_scenario();
   if (name == "accel") return accel_scenario();
+  if (name == "brake") return brake_scenario();
   if (name == "skidpad") return skidpad_scenario();
   if (name == "crawl") return crawl_scenario();
   if (name == "stop") return stop_scenario();

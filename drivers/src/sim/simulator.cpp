@@ -40,6 +40,8 @@ void check_config(const SimulatorConfig& c) {
   if (!(c.camera.mm_per_px > 0.001 && c.camera.mm_per_px < 10.0))
     fail("camera mm_per_px must be in (0.001, 10)");
   if (!std::isfinite(c.camera.mount_yaw_deg)) fail("camera mount_yaw_deg must be finite");
+  if (!(c.camera_height_mm >= 5.0 && c.camera_height_mm <= 10000.0))
+    fail("camera_height_mm must be in [5, 10000], got " + std::to_string(c.camera_height_mm));
 }
 
 void check_plan(const core::ExposurePlan& p, double fps) {
@@ -63,6 +65,7 @@ void check_plan(const core::ExposurePlan& p, double fps) {
 }  // namespace
 
 std::vector<std::string> scenario_names() { return sim::builtin_scenario_names(); }
+std::vector<std::string> body_motion_names() { return sim::body_motion_names(); }
 
 struct Simulator::Impl {
   Impl(const SimulatorConfig& c, sim::Scenario s)
@@ -113,7 +116,7 @@ struct Simulator::Impl {
   void calibrate() {
     const sim::SensorModel& m = config.sensor;
     light_intervals(0, plan, light);
-    renderer.render(rendered_ground(), trajectory, config.camera, light, reflectance);
+    renderer.render(rendered_ground(), trajectory, config.camera, config.camera_height_mm, light, reflectance);
     cv::Mat e;
     sensor.electrons(reflectance, m.led_flux_e_per_us * light_dose(plan), e);
     const double mean_e = cv::mean(e)[0];
@@ -139,7 +142,7 @@ struct Simulator::Impl {
   void render(std::int64_t index, const core::ExposurePlan& p, SimFrame& out) {
     const sim::SensorModel& m = config.sensor;
     light_intervals(index, p, light);
-    renderer.render(rendered_ground(), trajectory, config.camera, light, reflectance);
+    renderer.render(rendered_ground(), trajectory, config.camera, config.camera_height_mm, light, reflectance);
     // Photons follow the light dose; the gain follows like an auto-gain so the
     // mean stays at the run's level, within [1/r, r] of the run's gain.
     const double dose = light_dose(p);
@@ -177,6 +180,14 @@ struct Simulator::Impl {
     tr.speed_mps = std::hypot(v.vx_mps, v.vy_mps);
     if (tr.speed_mps >= 0.01) tr.direction_deg = core::direction_deg({v.vx_mps, v.vy_mps});
     tr.yaw_rate_dps = v.yaw_rate_dps;
+    if (trajectory.has_body_motion()) {
+      // At mid-light, as the velocity (the renderer follows the pose
+      // through the exposure, knot by knot).
+      const sim::BodyPose b = trajectory.body(t_mid);
+      tr.height_mm = config.camera_height_mm + b.heave_mm;
+      tr.pitch_deg = b.pitch_deg;
+      tr.roll_deg = b.roll_deg;
+    }
   }
 
   /// Period of the texture: 0 (never repeats) unless periodic_texture asks
@@ -232,7 +243,8 @@ struct Simulator::Impl {
 };
 
 Simulator::Simulator(const SimulatorConfig& config)
-    : Simulator(config, (check_config(config), sim::make_scenario(config.scenario))) {}
+    : Simulator(config,
+                (check_config(config), sim::with_body_motion(sim::make_scenario(config.scenario), config.body))) {}
 
 Simulator::Simulator(const SimulatorConfig& config, sim::Scenario scenario) {
   check_config(config);
@@ -267,6 +279,7 @@ void Simulator::render(std::int64_t index, const core::ExposurePlan& plan, SimFr
 }
 
 const SimulatorConfig& Simulator::config() const { return impl_->config; }
+bool Simulator::has_body_motion() const { return impl_->trajectory.has_body_motion(); }
 std::size_t Simulator::frame_count() const { return impl_->frames; }
 const sim::Trajectory& Simulator::trajectory() const { return impl_->trajectory; }
 double Simulator::run_gain_dn_per_e() const { return impl_->gain; }

@@ -71,6 +71,15 @@ BodyMotion Trajectory::motion(double t_s) const {
   return scenario_.motion(std::max(t_s, 0.0));
 }
 
+BodyPose Trajectory::body(double t_s) const {
+  if (!scenario_.body) return {};
+  if (loop_) {
+    const double n = std::floor(t_s / period_s_);
+    t_s -= n * period_s_;
+  }
+  return scenario_.body(std::max(t_s, 0.0));
+}
+
 Pose Trajectory::pose_in_period(double tau) const {
   tau = std::max(tau, 0.0);
   const double last = static_cast<double>(table_.size() - 2) * step_s_;

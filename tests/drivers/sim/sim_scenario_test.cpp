@@ -19,7 +19,7 @@ double speed(const BodyMotion& m) { return std::hypot(m.vx_mps, m.vy_mps); }
 double direction(const BodyMotion& m) { return std::atan2(m.vy_mps, m.vx_mps) / kDeg; }
 
 TEST(SimScenario, EveryBuiltInScenarioRendersFramesWithTruth) {
-  ASSERT_EQ(scenario_names().size(), 7U);
+  ASSERT_EQ(scenario_names().size(), 8U);
   for (const std::string& name : scenario_names()) {
     SimulatorConfig c;
     c.scenario = name;
@@ -145,6 +145,23 @@ TEST(SimScenario, StopStandsThenPullsAway) {
   sim.render(300, sim.exposure(), f);  // 5 s
   EXPECT_NEAR(f.truth.speed_mps, 5.0, 1e-6);
   ASSERT_TRUE(f.truth.direction_deg.has_value());
+}
+
+TEST(SimScenario, BrakeStopsFrom100KmhAtUpTo2g) {
+  const Scenario s = make_scenario("brake");
+  EXPECT_NEAR(speed(s.motion(0.4)), 100.0 / 3.6, 1e-9);
+  EXPECT_EQ(speed(s.motion(3.05)), 0.0);
+  EXPECT_EQ(speed(s.motion(3.9)), 0.0);
+  double peak = 0.0;
+  for (double t = 0.0; t < 4.0; t += 0.01) {
+    const double decel = (speed(s.motion(t)) - speed(s.motion(t + 0.01))) / 0.01;
+    ASSERT_GE(decel, -1e-9) << t;  // never speeds up
+    peak = std::max(peak, decel);
+    if (speed(s.motion(t)) > 0.01) {
+      EXPECT_NEAR(direction(s.motion(t)), 0.0, 1e-12);
+    }
+  }
+  EXPECT_NEAR(peak, 100.0 / 3.6 * 1.875 / 2.5, 0.05);  // 20.8 m/s^2
 }
 
 TEST(SimScenario, SpinTurnsThrough180DegreesAndEndsGoingBackwards) {

@@ -29,6 +29,10 @@ struct CameraInfo {
   /// Simulated runs: the ground rendered ("procedural" or
   /// "photo:FILE:MM_PER_PIXEL", key "ground"); empty: not recorded (camera runs).
   std::string ground;
+  /// Nominal height of the camera's optical centre above the ground, mm,
+  /// where mm_per_px holds (key "height_mm", written by the simulator);
+  /// empty: not recorded.
+  std::optional<double> height_mm;
 };
 
 /// One row of frames.csv.
@@ -39,7 +43,8 @@ struct FrameRecord {
   core::ExposurePlan exposure;
 };
 
-/// One row of truth.csv: sensor velocity at mid-exposure, vehicle axes.
+/// One row of truth.csv: sensor velocity at mid-exposure, vehicle axes, and
+/// where the run has them, the body's height and attitude then.
 struct TruthRecord {
   std::int64_t index = 0;
   std::int64_t t_ns = 0;  ///< mid-exposure time
@@ -48,6 +53,11 @@ struct TruthRecord {
   double speed_mps = 0.0;
   std::optional<double> direction_deg;  ///< empty below 0.01 m/s
   double yaw_rate_dps = 0.0;
+  /// Optical centre to the ground along the vehicle's z axis; empty (no
+  /// column or an empty field): the nominal height of camera.json.
+  std::optional<double> height_mm;
+  std::optional<double> pitch_deg;  ///< ISO 8855: positive = nose down; empty: level
+  std::optional<double> roll_deg;   ///< ISO 8855: positive = right side down; empty: level
 };
 
 /// Parses the `pulses` column ("0:20|400:20", empty = continuous). Throws
@@ -82,10 +92,13 @@ class DatasetReader {
 
 /// Writes a dataset folder: camera.json at construction, then one frame (and
 /// optionally its truth row) at a time. Files are flushed by close() or the
-/// destructor.
+/// destructor. `with_body_pose`: truth.csv has the columns height_mm,
+/// pitch_deg, roll_deg after the seven standard ones (a record without a
+/// value leaves its field empty).
 class DatasetWriter {
  public:
-  DatasetWriter(const std::filesystem::path& folder, const CameraInfo& camera, bool with_truth);
+  DatasetWriter(const std::filesystem::path& folder, const CameraInfo& camera, bool with_truth,
+                bool with_body_pose = false);
   ~DatasetWriter();
   DatasetWriter(const DatasetWriter&) = delete;
   DatasetWriter& operator=(const DatasetWriter&) = delete;
@@ -102,6 +115,7 @@ class DatasetWriter {
   std::ofstream frames_csv_;
   std::ofstream truth_csv_;
   bool with_truth_;
+  bool with_body_pose_;
 };
 
 }  // namespace gvs::drivers

@@ -30,6 +30,16 @@ struct SimulatorConfig {
   double exposure_us = 3000.0;  ///< continuous exposure unless a plan is set
   LightLevel light = LightLevel::normal;
   core::CameraGeometry camera;  ///< 512x384 px, 0.1 mm/px, mount yaw 0
+  /// Nominal height of the camera's optical centre above the ground, where
+  /// camera.mm_per_px holds: a pinhole of focal length height / mm_per_px
+  /// pixels (60 mm: docs/hardware.md). Body motion moves and tilts the
+  /// camera from here; without it the view is the same at any height.
+  double camera_height_mm = 60.0;
+  /// Body motion laid over the scenario (sim::with_body_motion): "flat"
+  /// (nominal height, level), "heave" or "ride" (docs/simulator.md, "Body
+  /// motion"). Ignored by the constructor taking a custom scenario (which
+  /// brings its own Scenario::body).
+  std::string body = "flat";
   bool loop = false;           ///< start the scenario again when it ends (daemon)
   std::uint64_t sensor_seed = 7;  ///< fixed-pattern noise of "the" sensor (not the scene)
   sim::SensorModel sensor;        ///< sensor and light numbers (docs/simulator.md)
@@ -66,8 +76,10 @@ struct SimFrame {
   TruthRecord truth;
 };
 
-/// Names of the built-in scenarios: const, sine, accel, skidpad, crawl, stop, spin.
+/// Names of the built-in scenarios: const, sine, accel, brake, skidpad, crawl, stop, spin.
 std::vector<std::string> scenario_names();
+/// Names of the body motions: flat, heave, ride.
+std::vector<std::string> body_motion_names();
 
 class Simulator {
  public:
@@ -82,6 +94,10 @@ class Simulator {
   Simulator& operator=(const Simulator&) = delete;
   Simulator(Simulator&&) noexcept;
   Simulator& operator=(Simulator&&) noexcept;
+
+  /// The scenario moves the body (height, pitch, roll): the truth then
+  /// holds height_mm, pitch_deg and roll_deg.
+  [[nodiscard]] bool has_body_motion() const;
 
   /// Renders the next frame into `out` (reusing its buffer). Returns false when
   /// the run is over (never when looping).

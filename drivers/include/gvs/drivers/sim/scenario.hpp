@@ -4,6 +4,9 @@
 // axes (ISO 8855: x forward, y left, yaw rate CCW from above) as a function of
 // time. The trajectory integrates it into a world pose (RK4 at 50 us, cubic
 // Hermite in between), so the camera sees exactly the motion the truth says.
+// A scenario may also move the body: the camera's height above the ground
+// and the body's pitch and roll as functions of time (docs/simulator.md,
+// "Body motion").
 #pragma once
 
 #include <cstdint>
@@ -20,6 +23,17 @@ struct BodyMotion {
   double yaw_rate_dps = 0.0;  ///< CCW from above
 };
 
+/// The body's height and attitude at the sensor, relative to the ground
+/// plane (shared/spec/dataset-format.md, truth.csv: height_mm, pitch_deg,
+/// roll_deg). All zero: the nominal height, level.
+struct BodyPose {
+  /// Change of the camera's height (optical centre to the ground along the
+  /// vehicle's z axis) from its nominal height; positive = higher.
+  double heave_mm = 0.0;
+  double pitch_deg = 0.0;  ///< ISO 8855: positive = nose down
+  double roll_deg = 0.0;   ///< ISO 8855: positive = right side down
+};
+
 /// A driving scenario: body motion as a function of time since its start.
 /// `motion` must be defined (and should be continuous) for every t >= 0; the
 /// built-in ones hold their final state after `length_s`.
@@ -27,14 +41,32 @@ struct Scenario {
   std::string name;
   double length_s = 1.0;  ///< default run length
   std::function<BodyMotion(double t_s)> motion;
+  /// Height and attitude of the body, continuous for every t >= 0; empty:
+  /// nominal height and level all the time (the truth then has no
+  /// height_mm, pitch_deg, roll_deg columns). The velocity of `motion` is
+  /// that of the ground point on the camera's axis (the image centre).
+  std::function<BodyPose(double t_s)> body = {};
 };
 
-/// Builds a built-in scenario (const, sine, accel, skidpad, crawl, stop,
-/// spin). Throws std::invalid_argument naming the scenario and the known ones.
+/// Builds a built-in scenario (const, sine, accel, brake, skidpad, crawl,
+/// stop, spin). Throws std::invalid_argument naming the scenario and the known ones.
 Scenario make_scenario(const std::string& name);
 
 /// Names of the built-in scenarios.
 std::vector<std::string> builtin_scenario_names();
+
+/// Body motion laid over any scenario (docs/simulator.md, "Body motion"):
+///  - "flat": none (nominal height, level; the scenario as it is);
+///  - "heave": the height only, +-5 mm at 1.3, 2.9 and 4.7 Hz (sum of sines);
+///  - "ride": "heave" plus pitch and roll following the scenario's own
+///    accelerations (1 deg/g braking/accelerating, limited to 1.5 deg;
+///    0.75 deg/g in corners, limited to 1 deg) and a kerb strike every 4 s
+///    from 1.5 s (up 10 mm in 50 ms, down again in 150 ms, 0.5 deg of roll).
+/// Throws std::invalid_argument naming the body and the known ones.
+Scenario with_body_motion(Scenario scenario, const std::string& body);
+
+/// Names of the body motions: flat, heave, ride.
+std::vector<std::string> body_motion_names();
 
 /// Constant body velocity for `length_s` seconds (tests, calibration runs).
 Scenario constant_motion_scenario(double vx_mps, double vy_mps, double yaw_rate_dps = 0.0,
@@ -56,6 +88,9 @@ class Trajectory {
 
   [[nodiscard]] Pose pose(double t_s) const;
   [[nodiscard]] BodyMotion motion(double t_s) const;
+  /// The scenario's body pose at t (all zero without body motion).
+  [[nodiscard]] BodyPose body(double t_s) const;
+  [[nodiscard]] bool has_body_motion() const { return static_cast<bool>(scenario_.body); }
   [[nodiscard]] double period_s() const { return period_s_; }
   [[nodiscard]] const Scenario& scenario() const { return scenario_; }
 
