@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "gvs/core/method.hpp"
+#include "gvs/core/ride_height.hpp"
 
 namespace gvs::core {
 
@@ -44,6 +45,10 @@ struct VelocityEstimate {
   /// (Method::dark, Method::no_texture, ...); its word is the estimates CSV's
   /// `method` column and its code the CAN signal GVS_Method.
   Method method = Method::none;
+  /// The height and tilt measured in this frame (laser dots), if any.
+  RideHeight ride;
+  /// The height vx, vy and speed_mps are scaled with.
+  ScaleSource scale_source = ScaleSource::nominal;
 
   /// vx, vy are known when speed and direction are, or when the car stands.
   [[nodiscard]] bool has_velocity_xy() const {
