@@ -10,7 +10,10 @@
 namespace gvs::dsp {
 
 BlurAnalyzer::BlurAnalyzer(cv::Size size)
-    : k_row_(angular_frequencies(size.height)), k_col_(angular_frequencies(size.width)), overlap_(size) {
+    : k_row_(angular_frequencies(size.height)),
+      k_col_(angular_frequencies(size.width)),
+      overlap_(size),
+      inverse_dft_(DftPlan::Direction::inverse_complex_to_real, size) {
   // Band [0.1, 2.2] rad/px with raised-cosine edges: drops the lighting
   // gradient and window leakage (low k) and pixel-level noise/aliasing (high k).
   band_.create(size, CV_32F);

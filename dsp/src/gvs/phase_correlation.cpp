@@ -10,7 +10,8 @@
 
 namespace gvs::dsp {
 
-PhaseCorrelator::PhaseCorrelator(cv::Size size, double max_frequency) {
+PhaseCorrelator::PhaseCorrelator(cv::Size size, double max_frequency)
+    : inverse_dft_(DftPlan::Direction::inverse_complex_to_real, size) {
   const std::vector<double> kr = angular_frequencies(size.height);
   const std::vector<double> kc = angular_frequencies(size.width);
   weight_.create(size, CV_32F);

@@ -137,7 +137,7 @@ class BlurAnalyzer {
   cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0)
   cv::Mat surface_;  ///< CV_32F autocorrelation
   WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
-  DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
+  DftPlan inverse_dft_;  ///< planned for `size` at construction
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
 
   cv::Mat ring_;     ///< CV_8U ring of |k| per bin (|k| / kRingWidth, at most 255)
