@@ -41,15 +41,17 @@ std::mutex& planner_mutex() {
 // same estimates (the tests compare replays byte for byte). It also takes
 // about 1.2 s per size and direction here, in every process. FFTW_ESTIMATE
 // plans in milliseconds and always the same way; its transforms cost about
-// 1.3x FFTW_MEASURE's at 512x384 (docs/performance.md, "Estimator per stage").
+// 1.3x FFTW_MEASURE's at 512x384 (docs/performance.md, "Estimator per frame
+// kind and per stage").
 constexpr unsigned kPlannerFlags = FFTW_ESTIMATE;
 
 // FFTW_NO_BUFFERING (fftw3.h; not in the manual): FFTW's buffered solvers
 // allocate their buffers on every execute (here 1 a transform at 256x192, 65
 // at 128x96, 321 at 640x480), and the real-time path must not allocate
 // (gvsd_alloc_tests). Without them the estimator's sizes (even, small
-// factors) still plan, at the same speed; a size that has no plan without
-// buffering (e.g. 33x17) gets one with it, which may allocate.
+// factors) still plan (at 512x384 and 320x384 the very plans FFTW makes
+// with them); a size that has no plan without buffering (e.g. 33x17) gets
+// one with it, which may allocate.
 constexpr unsigned kNoAllocation = FFTW_NO_BUFFERING;
 
 struct FftwFree {

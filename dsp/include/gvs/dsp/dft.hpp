@@ -1,11 +1,11 @@
 // The discrete Fourier transform, planned once.
 //
-// FFTW single precision (fftw3f) underneath: its real-to-complex transform of
-// a 512x384 frame takes about a third of cv::dft's time here
-// (docs/performance.md, "Estimator per stage"). The layout stays OpenCV's:
-// the forward transform gives the full complex spectrum (CV_32FC2, every
-// bin), filled from FFTW's half spectrum by conjugate symmetry, so every
-// consumer reads the spectrum as before.
+// FFTW single precision (fftw3f) underneath: the forward transform of a
+// 512x384 frame takes less than half of cv::dft's time here
+// (docs/performance.md, "Estimator per frame kind and per stage"). The
+// layout stays OpenCV's: the forward transform gives the full complex
+// spectrum (CV_32FC2, every bin), filled from FFTW's half spectrum by
+// conjugate symmetry, so every consumer reads the spectrum as before.
 //
 // A plan and its buffers are made at construction (with a size) or on the
 // first run, and again only if the size changes: every later run allocates

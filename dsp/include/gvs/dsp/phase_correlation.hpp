@@ -41,7 +41,7 @@ class PhaseCorrelator {
 
  private:
   cv::Mat weight_;  ///< CV_32F band limit per bin
-  cv::Mat cross_;   ///< CV_32FC2 normalised cross-power spectrum
+  cv::Mat cross_;   ///< CV_32FC2 normalised cross-power spectrum; columns 0 .. cols/2 only
   cv::Mat surface_; ///< CV_32F
   DftPlan inverse_dft_;  ///< planned for `size` at construction
 };
