@@ -1,5 +1,6 @@
 // Time per frame of the gvs estimator alone, per frame kind, and of the
-// thesis's methods on the same frames (docs/performance.md).
+// thesis's methods on the same frames, each beside FFTW's real-to-complex
+// transform of the same frames (docs/performance.md).
 //   build/<dir>/tests/dsp/gvs_estimator_bench
 //
 // Each kind is one second (60 frames, 512x384) of the simulator at a constant
@@ -7,77 +8,26 @@
 // frames are what the estimator meets on the car), then fed to a fresh
 // estimator round and round with the clock running on. The label names the
 // method the estimator used on the last frame, so the path measured is shown.
+// Counters: r2c_ms, FFTW's r2c of the same frames timed right after the
+// estimator (thread CPU time, like the estimator's), and x_r2c, the
+// estimator's time over it (issue #22's target: at most 3). The per-stage
+// costs are in gvs_stage_bench.cpp (the same program).
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
-#include <map>
 #include <string>
 #include <vector>
 
-#include "gvs/drivers/simulator.hpp"
 #include "gvs/dsp/estimator.hpp"
-#include "gvs/dsp/exposure_control.hpp"
-#include "gvs/dsp/gvs_estimator.hpp"
+#include "gvs_bench_frames.hpp"
 
 namespace {
 
 using namespace gvs;
-
-struct FrameKind {
-  const char* name;
-  double vx_mps;
-  double vy_mps;
-  dsp::ExposureMode mode;  ///< fixed: 3 ms continuous light
-};
-
-// sharp pair: 1.8 km/h, consecutive frames overlap (pair correlation);
-// blurred: 54 km/h with 3 ms, the streak is longer than the frame (direction only);
-// strobed: 108 km/h, one strobe keeping the streak 10-80 px;
-// double pulse: 108 km/h, two short pulses.
-constexpr FrameKind kKinds[] = {
-    {"sharp_pair", 0.5, 0.02, dsp::ExposureMode::fixed},
-    {"blurred", 15.0, 0.8, dsp::ExposureMode::fixed},
-    {"strobed", 30.0, 1.5, dsp::ExposureMode::adaptive},
-    {"double_pulse", 30.0, 1.5, dsp::ExposureMode::double_pulse},
-};
-
-constexpr int kFrames = 60;
-
-std::vector<dsp::FrameView> render(const FrameKind& kind) {
-  drivers::SimulatorConfig cfg;
-  cfg.seconds = 1.5;
-  drivers::Simulator sim(cfg, drivers::sim::constant_motion_scenario(kind.vx_mps, kind.vy_mps, 0.0, 1.5));
-  dsp::EstimatorConfig ec;
-  ec.method = "gvs";
-  ec.camera = cfg.camera;
-  dsp::GvsEstimator est(ec);
-  const dsp::ExposureLimits limits = dsp::exposure_limits_for(cfg.camera, cfg.fps);
-  dsp::ExposurePlan plan;
-  std::vector<dsp::FrameView> frames;
-  drivers::SimFrame f;
-  // The first 0.5 s let the exposure loop settle; the last second is kept.
-  const std::size_t settle = sim.frame_count() - kFrames;
-  for (std::size_t i = 0; sim.next(f); ++i) {
-    const dsp::FrameView view{f.gray, f.record.index, f.record.t_ns, f.record.exposure};
-    const dsp::VelocityEstimate e = est.estimate(view);
-    if (i >= settle) frames.push_back({f.gray.clone(), f.record.index, f.record.t_ns, f.record.exposure});
-    if (kind.mode != dsp::ExposureMode::fixed) {
-      plan = dsp::next_exposure(e, plan, kind.mode, limits);
-      sim.set_exposure(plan);
-    }
-  }
-  return frames;
-}
-
-const std::vector<dsp::FrameView>& frames_of(const FrameKind& kind) {
-  static std::map<std::string, std::vector<dsp::FrameView>> cache;
-  auto it = cache.find(kind.name);
-  if (it == cache.end()) it = cache.emplace(kind.name, render(kind)).first;
-  return it->second;
-}
+using bench::FrameKind;
 
 void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* method) {
-  const std::vector<dsp::FrameView>& frames = frames_of(kind);
+  const std::vector<dsp::FrameView>& frames = bench::frames_of(kind);
   dsp::EstimatorConfig cfg;
   cfg.method = method;
   const auto est = dsp::make_estimator(cfg);
@@ -85,6 +35,7 @@ void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* me
   std::int64_t n = 0;
   const char* last_method = "";
   std::int64_t with_speed = 0;
+  const double cpu0 = bench::thread_cpu_s();
   for (auto _ : state) {
     const std::size_t i = static_cast<std::size_t>(n) % frames.size();
     dsp::FrameView f = frames[i];
@@ -97,12 +48,18 @@ void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* me
     with_speed += e.has_speed ? 1 : 0;
     ++n;
   }
+  const double estimator_ms = n ? 1e3 * (bench::thread_cpu_s() - cpu0) / static_cast<double>(n) : 0.0;
+  // The reference in the same run, on the same frames, right after.
+  static bench::FftwR2c r2c(frames.front().gray.size());
+  const double r2c_ms = r2c.ms_per_frame(frames, 3);
   state.SetLabel(last_method);
   state.counters["speed_frac"] = n ? static_cast<double>(with_speed) / static_cast<double>(n) : 0.0;
+  state.counters["r2c_ms"] = r2c_ms;
+  state.counters["x_r2c"] = r2c_ms > 0.0 ? estimator_ms / r2c_ms : 0.0;
 }
 
 void register_all() {
-  for (const FrameKind& kind : kKinds) {
+  for (const FrameKind& kind : bench::kKinds) {
     for (const char* method : {"gvs", "thesis", "thesis-orb", "thesis-fft", "thesis-laplacian"}) {
       const std::string name = std::string("BM_Estimator/") + kind.name + "/" + method;
       benchmark::RegisterBenchmark(name.c_str(), BM_Estimator, kind, method)->Unit(benchmark::kMillisecond);
@@ -112,8 +69,13 @@ void register_all() {
 
 }  // namespace
 
+namespace gvs::bench {
+void register_stage_benchmarks();  // gvs_stage_bench.cpp
+}
+
 int main(int argc, char** argv) {
   register_all();
+  gvs::bench::register_stage_benchmarks();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

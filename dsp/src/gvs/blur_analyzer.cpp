@@ -10,7 +10,10 @@
 namespace gvs::dsp {
 
 BlurAnalyzer::BlurAnalyzer(cv::Size size)
-    : k_row_(angular_frequencies(size.height)), k_col_(angular_frequencies(size.width)), overlap_(size) {
+    : k_row_(angular_frequencies(size.height)),
+      k_col_(angular_frequencies(size.width)),
+      overlap_(size),
+      inverse_dft_(DftPlan::Direction::inverse_complex_to_real, size) {
   // Band [0.1, 2.2] rad/px with raised-cosine edges: drops the lighting
   // gradient and window leakage (low k) and pixel-level noise/aliasing (high k).
   band_.create(size, CV_32F);
@@ -46,7 +49,7 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
       double_band_.at<float>(r, c) = r_bin <= 2 ? 0.0f : static_cast<float>(w);
     }
   }
-  power_.create(size, CV_32FC2);
+  power_ = cv::Mat::zeros(size, CV_32FC2);  // the columns past cols/2 stay 0, never read
   surface_.create(size, CV_32F);
   // The noise floor's bins (noise_floor): in each row one run of columns
   // around k_col = +-pi (|k_col| rises to pi at the middle column).

@@ -41,12 +41,15 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
                                          double min_px, double max_px, double expected_px) {
   StreakLength out;
   const double n0 = noise_floor(spectrum);
+  // Only the columns the inverse DFT reads (DftPlan: 0 .. cols/2; the rest
+  // is their mirror image).
+  const int half_cols = spectrum.cols / 2 + 1;
   for (int r = 0; r < spectrum.rows; ++r) {
     const double kr = k_row_[static_cast<std::size_t>(r)];
     const auto* f = spectrum.ptr<cv::Vec2f>(r);
     const float* w = streak_band_.ptr<float>(r);
     auto* p = power_.ptr<cv::Vec2f>(r);
-    for (int c = 0; c < spectrum.cols; ++c) {
+    for (int c = 0; c < half_cols; ++c) {
       const double ku = kr * axis.u_row + k_col_[static_cast<std::size_t>(c)] * axis.u_col;
       const double pw = static_cast<double>(w[c]) *
           (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);

@@ -21,12 +21,14 @@ namespace gvs::dsp {
 DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, double max_px) {
   DoubleImage out;
   const double n0 = noise_floor(spectrum);
+  // Only the columns the inverse DFT reads (DftPlan: 0 .. cols/2).
+  const int half_cols = spectrum.cols / 2 + 1;
   for (int r = 0; r < spectrum.rows; ++r) {
     const double kr = k_row_[static_cast<std::size_t>(r)];
     const auto* f = spectrum.ptr<cv::Vec2f>(r);
     const float* w = double_band_.ptr<float>(r);
     auto* p = power_.ptr<cv::Vec2f>(r);
-    for (int c = 0; c < spectrum.cols; ++c) {
+    for (int c = 0; c < half_cols; ++c) {
       const double kc = k_col_[static_cast<std::size_t>(c)];
       const double pw = static_cast<double>(w[c]) *
           (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);

@@ -10,7 +10,8 @@
 
 namespace gvs::dsp {
 
-PhaseCorrelator::PhaseCorrelator(cv::Size size, double max_frequency) {
+PhaseCorrelator::PhaseCorrelator(cv::Size size, double max_frequency)
+    : inverse_dft_(DftPlan::Direction::inverse_complex_to_real, size) {
   const std::vector<double> kr = angular_frequencies(size.height);
   const std::vector<double> kc = angular_frequencies(size.width);
   weight_.create(size, CV_32F);
@@ -40,7 +41,7 @@ PhaseCorrelator::PhaseCorrelator(cv::Size size, double max_frequency) {
       weight_.at<float>(r, c) = static_cast<float>(w);
     }
   }
-  cross_.create(size, CV_32FC2);
+  cross_ = cv::Mat::zeros(size, CV_32FC2);  // the columns past cols/2 stay 0, never read
   surface_.create(size, CV_32F);
 }
 
@@ -49,13 +50,15 @@ ImageShift PhaseCorrelator::correlate(const cv::Mat& spectrum_prev, const cv::Ma
   ImageShift out;
   const int rows = cross_.rows;
   const int cols = cross_.cols;
-  // R = F_cur F_prev* / |F_cur F_prev*|, band-limited.
+  // R = F_cur F_prev* / |F_cur F_prev*|, band-limited; only the columns
+  // the inverse DFT reads (DftPlan: 0 .. cols/2; R(-k) = R(k)* gives the rest).
+  const int half_cols = cols / 2 + 1;
   for (int r = 0; r < rows; ++r) {
     const auto* a = spectrum_cur.ptr<cv::Vec2f>(r);
     const auto* b = spectrum_prev.ptr<cv::Vec2f>(r);
     const float* w = weight_.ptr<float>(r);
     auto* x = cross_.ptr<cv::Vec2f>(r);
-    for (int c = 0; c < cols; ++c) {
+    for (int c = 0; c < half_cols; ++c) {
       const float re = a[c][0] * b[c][0] + a[c][1] * b[c][1];
       const float im = a[c][1] * b[c][0] - a[c][0] * b[c][1];
       const float mag = std::sqrt(re * re + im * im) + 1e-20f;

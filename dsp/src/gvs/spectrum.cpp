@@ -36,7 +36,8 @@ cv::Mat spectrum_window(cv::Size size, int type, double taper_fraction) {
   return out;
 }
 
-WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction) : size_(size) {
+WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction)
+    : size_(size), dft_(DftPlan::Direction::forward_real_to_complex, size) {
   window_ = spectrum_window(size, CV_32F, taper_fraction);
   work_.create(size, CV_32F);
   window_sum_ = cv::sum(window_)[0];

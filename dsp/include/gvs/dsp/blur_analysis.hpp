@@ -134,10 +134,10 @@ class BlurAnalyzer {
   cv::Mat band_;     ///< CV_32F band-pass weight per bin
   cv::Mat streak_band_;  ///< band_ times a high-pass (streak_length)
   cv::Mat double_band_;  ///< band_ without the column pattern's rows (double_image)
-  cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0)
+  cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0); columns 0 .. cols/2 only
   cv::Mat surface_;  ///< CV_32F autocorrelation
   WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
-  DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
+  DftPlan inverse_dft_;  ///< planned for `size` at construction
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
 
   cv::Mat ring_;     ///< CV_8U ring of |k| per bin (|k| / kRingWidth, at most 255)

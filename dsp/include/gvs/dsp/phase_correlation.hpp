@@ -41,9 +41,9 @@ class PhaseCorrelator {
 
  private:
   cv::Mat weight_;  ///< CV_32F band limit per bin
-  cv::Mat cross_;   ///< CV_32FC2 normalised cross-power spectrum
+  cv::Mat cross_;   ///< CV_32FC2 normalised cross-power spectrum; columns 0 .. cols/2 only
   cv::Mat surface_; ///< CV_32F
-  DftPlan inverse_dft_{DftPlan::Direction::inverse_complex_to_real};
+  DftPlan inverse_dft_;  ///< planned for `size` at construction
 };
 
 }  // namespace gvs::dsp

@@ -57,7 +57,7 @@ class WindowedSpectrum {
   cv::Mat window_;  ///< CV_32F spectrum_window()
   double window_energy_ = 0.0;
   cv::Mat work_;    ///< CV_32F windowed image
-  DftPlan dft_{DftPlan::Direction::forward_real_to_complex};
+  DftPlan dft_;  ///< forward, planned for size_ at construction
   double window_sum_ = 0.0;
 
   /// f = (g - offset - m) w with offset(r) a row of offsets (or nullptr).
