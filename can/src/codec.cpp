@@ -48,7 +48,7 @@ void validate_base_id(std::uint32_t base_id) {
   if (base_id > CanFrame::kMaxStandardId || last > CanFrame::kMaxStandardId) {
     char hex[16];
     std::snprintf(hex, sizeof hex, "%X", base_id);
-    throw std::invalid_argument(std::string("CAN base ID 0x") + hex + " leaves no room for the gvs messages base..base+3 in 11-bit IDs; choose a base ID <= 0x7FC");
+    throw std::invalid_argument(std::string("CAN base ID 0x") + hex + " leaves no room for the gvs messages base..base+4 in 11-bit IDs; choose a base ID <= 0x7FB");
   }
 }
 
@@ -73,6 +73,7 @@ CanFrame encode_velocity_xy(const VelocityXyMsg& m, const MessageIds& ids, std::
   const auto& s = kVelocityXySignals;
   CanFrame f = blank_frame(ids, MessageKind::VelocityXy);
   put_flag(f, s[kValid], m.valid);
+  put_count(f, s[kScaleSource], static_cast<std::uint8_t>(m.scale_source));
   put(f, s[kVx], m.valid ? m.vx_mps : 0.0);
   put(f, s[kVy], m.valid ? m.vy_mps : 0.0);
   put_count(f, s[kAge], m.age_ms);
@@ -108,10 +109,46 @@ CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t c
   return f;
 }
 
+CanFrame encode_ride_height(const RideHeightMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept {
+  using namespace sig_ride_height;
+  const auto& s = kRideHeightSignals;
+  CanFrame f = blank_frame(ids, MessageKind::RideHeight);
+  put_flag(f, s[kHeightValid], m.height_valid);
+  put_flag(f, s[kTiltValid], m.tilt_valid);
+  put_count(f, s[kScaleSource], static_cast<std::uint8_t>(m.scale_source));
+  put(f, s[kHeight], m.height_valid ? m.height_mm : 0.0);
+  put(f, s[kPitch], m.tilt_valid ? m.pitch_deg : 0.0);
+  put(f, s[kRoll], m.tilt_valid ? m.roll_deg : 0.0);
+  put_count(f, s[kHeightAge], m.age_ms);
+  e2e_protect(f, counter);
+  return f;
+}
+
+RideHeightMsg ride_height_from_estimate(const BusEstimate* e, std::int64_t now_ns, const ValidityRule& rule) noexcept {
+  RideHeightMsg m;
+  if (e == nullptr) return m;
+  m.scale_source = e->scale_source;
+  if (!e->has_height && !e->has_tilt) return m;  // age stays 255: nothing measured
+  const std::int64_t age_ms = (now_ns - e->t_ns) / 1'000'000;
+  m.age_ms = static_cast<std::uint32_t>(std::clamp<std::int64_t>(age_ms, 0, 255));
+  if (std::llabs(age_ms) > rule.stale_after_ms) return m;
+  using namespace sig_ride_height;
+  const auto& s = kRideHeightSignals;
+  m.height_valid = e->has_height && in_range(s[kHeight], e->height_mm);
+  m.tilt_valid = e->has_tilt && in_range(s[kPitch], e->pitch_deg) && in_range(s[kRoll], e->roll_deg);
+  if (m.height_valid) m.height_mm = e->height_mm;
+  if (m.tilt_valid) {
+    m.pitch_deg = e->pitch_deg;
+    m.roll_deg = e->roll_deg;
+  }
+  return m;
+}
+
 VelocityPair velocity_from_estimate(const BusEstimate* e, std::int64_t now_ns, const ValidityRule& rule,
                                     bool plausible) noexcept {
   VelocityPair out;
   if (e == nullptr) return out;  // all invalid, age 65535
+  out.xy.scale_source = e->scale_source;
 
   const std::int64_t age_ns = now_ns - e->t_ns;
   const std::int64_t age_ms = age_ns / 1'000'000;
@@ -165,6 +202,9 @@ CanFrame Encoder::status(const StatusMsg& m) noexcept {
 CanFrame Encoder::timing(const TimingMsg& m) noexcept {
   return encode_timing(m, ids_, next_counter(MessageKind::Timing));
 }
+CanFrame Encoder::ride_height(const RideHeightMsg& m) noexcept {
+  return encode_ride_height(m, ids_, next_counter(MessageKind::RideHeight));
+}
 
 VelocityPair Encoder::estimate_frames(const BusEstimate* estimate, std::int64_t now_ns, const ValidityRule& rule,
                                       bool plausible, CanFrame& velocity_out, CanFrame& xy_out) noexcept {
@@ -204,6 +244,7 @@ DecodedFrame decode(const CanFrame& frame, const MessageIds& ids) noexcept {
       using namespace sig_velocity_xy;
       const auto& s = kVelocityXySignals;
       d.xy.valid = get_flag(frame, s[kValid]);
+      d.xy.scale_source = static_cast<ScaleSourceCode>(get_uint<std::uint8_t>(frame, s[kScaleSource]));
       d.xy.vx_mps = get(frame, s[kVx]);
       d.xy.vy_mps = get(frame, s[kVy]);
       d.xy.age_ms = get_uint<std::uint32_t>(frame, s[kAge]);
@@ -230,6 +271,18 @@ DecodedFrame decode(const CanFrame& frame, const MessageIds& ids) noexcept {
       d.timing.exposure_us = get_uint<std::uint32_t>(frame, s[kExposure]);
       d.timing.processing_time_us = get_uint<std::uint32_t>(frame, s[kProcessingTime]);
       d.timing.late_wakeups = get_uint<std::uint8_t>(frame, s[kLateWakeups]);
+      break;
+    }
+    case MessageKind::RideHeight: {
+      using namespace sig_ride_height;
+      const auto& s = kRideHeightSignals;
+      d.ride.height_valid = get_flag(frame, s[kHeightValid]);
+      d.ride.tilt_valid = get_flag(frame, s[kTiltValid]);
+      d.ride.scale_source = static_cast<ScaleSourceCode>(get_uint<std::uint8_t>(frame, s[kScaleSource]));
+      d.ride.height_mm = get(frame, s[kHeight]);
+      d.ride.pitch_deg = get(frame, s[kPitch]);
+      d.ride.roll_deg = get(frame, s[kRoll]);
+      d.ride.age_ms = get_uint<std::uint32_t>(frame, s[kHeightAge]);
       break;
     }
   }

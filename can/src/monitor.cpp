@@ -30,6 +30,15 @@ void appendf(std::string& out, const char* fmt, ...) {
 
 const char* yes_no(bool v) { return v ? "yes" : "NO "; }
 
+const char* scale_source_word(ScaleSourceCode c) {
+  switch (c) {
+    case ScaleSourceCode::Nominal: return "nominal height (uncorrected)";
+    case ScaleSourceCode::LaserDots: return "laser dots";
+    case ScaleSourceCode::External: return "external height";
+  }
+  return "?";
+}
+
 /// " (Camera, Implausible)": the set fault bits by their DBC names without
 /// the GVS_Fault prefix; empty when none is set.
 std::string fault_names(std::uint16_t faults) {
@@ -119,6 +128,7 @@ void MonitorState::feed(const CanFrame& frame, std::int64_t t_ns) noexcept {
     case MessageKind::VelocityXy: xy_ = d.xy; break;
     case MessageKind::Status: status_ = d.status_msg; break;
     case MessageKind::Timing: timing_ = d.timing; break;
+    case MessageKind::RideHeight: ride_ = d.ride; break;
   }
 }
 
@@ -158,6 +168,13 @@ std::string MonitorState::render(std::int64_t now_ns) const {
             xy_.age_ms == 65535 ? " (none)" : "");
   } else {
     out += "vx/vy: no GVS_VelocityXY received\n";
+  }
+  if (has(MessageKind::RideHeight)) {
+    const bool stale = silent(MessageKind::RideHeight, now_ns);
+    const auto validity = [stale](bool v) { return stale ? "old" : yes_no(v); };
+    appendf(out, "height %7.2f mm  valid %s  pitch %6.2f roll %6.2f deg  valid %s  age %" PRIu32 " ms  scale: %s\n",
+            ride_.height_mm, validity(ride_.height_valid), ride_.pitch_deg, ride_.roll_deg,
+            validity(ride_.tilt_valid), ride_.age_ms, scale_source_word(ride_.scale_source));
   }
   if (has(MessageKind::Status)) {
     const char* word = method_word_ != nullptr ? method_word_(status_.method) : nullptr;

@@ -151,17 +151,18 @@ TEST(DbcCrossCheck, TypedEncodersMatchDbc) {
   expect_signals(encode_velocity(v2, ids, 3), "GVS_Velocity",
                  {{"GVS_Valid", 0}, {"GVS_SpeedValid", 0}, {"GVS_DirectionValid", 1}, {"GVS_YawRateValid", 0},
                   {"GVS_Speed", 0}, {"GVS_Direction", 179.99}, {"GVS_YawRate", 0}, {"GVS_Quality", 12}});
-  VelocityXyMsg xy{true, 69.444, -3.215, 17};
+  VelocityXyMsg xy{true, 69.444, -3.215, 17, ScaleSourceCode::External};
   expect_signals(encode_velocity_xy(xy, ids, 9), "GVS_VelocityXY",
-                 {{"GVS_Valid", 1}, {"GVS_Vx", 69.444}, {"GVS_Vy", -3.215}, {"GVS_Age", 17}});
-  StatusMsg st{SensorState::Degraded, kFaultCamera | kFaultCanBusOff | kFaultNoRealtime | kFaultImplausible, 201, 7,
+                 {{"GVS_Valid", 1}, {"GVS_ScaleSource", 2}, {"GVS_Vx", 69.444}, {"GVS_Vy", -3.215}, {"GVS_Age", 17}});
+  StatusMsg st{SensorState::Degraded,
+               kFaultCamera | kFaultCanBusOff | kFaultNoRealtime | kFaultImplausible | kFaultScaleUncorrected, 201, 7,
                250, 16};
   expect_signals(encode_status(st, ids, 15), "GVS_Status",
                  {{"GVS_State", 2}, {"GVS_FaultCamera", 1}, {"GVS_FaultEstimateStale", 0},
                   {"GVS_FaultRingOverrun", 0}, {"GVS_FaultDeadlineMiss", 0}, {"GVS_FaultCanBusOff", 1},
                   {"GVS_FaultCanErrorPassive", 0}, {"GVS_FaultCanController", 0},
                   {"GVS_FaultCanInterfaceDown", 0}, {"GVS_FaultCanSendError", 0}, {"GVS_FaultLight", 0},
-                  {"GVS_FaultNoRealtime", 1}, {"GVS_FaultImplausible", 1}, {"GVS_DroppedFrames", 201}, {"GVS_RingOverruns", 7},
+                  {"GVS_FaultNoRealtime", 1}, {"GVS_FaultImplausible", 1}, {"GVS_FaultScaleUncorrected", 1}, {"GVS_DroppedFrames", 201}, {"GVS_RingOverruns", 7},
                   {"GVS_CanSendErrors", 250}, {"GVS_Method", 16}});
   // Every fault bit lands in its own DBC signal.
   const DbcMessage& status = *dbc().find("GVS_Status");
@@ -181,6 +182,14 @@ TEST(DbcCrossCheck, TypedEncodersMatchDbc) {
   TimingMsg t{2500, 4321, 3};
   expect_signals(encode_timing(t, ids, 1), "GVS_Timing",
                  {{"GVS_Exposure", 2500}, {"GVS_ProcessingTime", 4321}, {"GVS_LateWakeups", 3}});
+  RideHeightMsg r{true, true, ScaleSourceCode::LaserDots, 61.23, -1.47, 0.92, 4};
+  expect_signals(encode_ride_height(r, ids, 2), "GVS_RideHeight",
+                 {{"GVS_HeightValid", 1}, {"GVS_TiltValid", 1}, {"GVS_ScaleSource", 1}, {"GVS_Height", 61.23},
+                  {"GVS_Pitch", -1.47}, {"GVS_Roll", 0.92}, {"GVS_HeightAge", 4}});
+  RideHeightMsg none{false, false, ScaleSourceCode::Nominal, 61.23, -1.47, 0.92, 255};
+  expect_signals(encode_ride_height(none, ids, 2), "GVS_RideHeight",
+                 {{"GVS_HeightValid", 0}, {"GVS_TiltValid", 0}, {"GVS_ScaleSource", 0}, {"GVS_Height", 0},
+                  {"GVS_Pitch", 0}, {"GVS_Roll", 0}, {"GVS_HeightAge", 255}});
 }
 
 TEST(DbcCrossCheck, E2eHeaderReadThroughDbc) {

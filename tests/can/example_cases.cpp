@@ -32,6 +32,7 @@ ExampleCase xy_case(const VelocityXyMsg& m, std::uint8_t counter) {
   c.expect["GVS_Vx"] = m.valid ? m.vx_mps : 0.0;
   c.expect["GVS_Vy"] = m.valid ? m.vy_mps : 0.0;
   c.expect["GVS_Age"] = m.age_ms;
+  c.expect["GVS_ScaleSource"] = static_cast<double>(m.scale_source);
   return c;
 }
 
@@ -42,7 +43,8 @@ ExampleCase status_case(const StatusMsg& m, std::uint8_t counter) {
       "GVS_FaultCamera",        "GVS_FaultEstimateStale",   "GVS_FaultRingOverrun",
       "GVS_FaultDeadlineMiss",  "GVS_FaultCanBusOff",       "GVS_FaultCanErrorPassive",
       "GVS_FaultCanController", "GVS_FaultCanInterfaceDown", "GVS_FaultCanSendError",
-      "GVS_FaultLight",         "GVS_FaultNoRealtime",      "GVS_FaultImplausible"};
+      "GVS_FaultLight",         "GVS_FaultNoRealtime",      "GVS_FaultImplausible",
+      "GVS_FaultScaleUncorrected"};
   c.expect["GVS_State"] = static_cast<double>(m.state);
   for (unsigned i = 0; i < std::size(kFaultNames); ++i) c.expect[kFaultNames[i]] = (m.faults >> i) & 1u;
   c.expect["GVS_DroppedFrames"] = m.dropped_frames;
@@ -61,6 +63,19 @@ ExampleCase timing_case(const TimingMsg& m, std::uint8_t counter) {
   return c;
 }
 
+ExampleCase ride_height_case(const RideHeightMsg& m, std::uint8_t counter) {
+  ExampleCase c{"GVS_RideHeight", encode_ride_height(m, MessageIds{}, counter), {}};
+  add_header(c);
+  c.expect["GVS_HeightValid"] = m.height_valid;
+  c.expect["GVS_TiltValid"] = m.tilt_valid;
+  c.expect["GVS_ScaleSource"] = static_cast<double>(m.scale_source);
+  c.expect["GVS_Height"] = m.height_valid ? m.height_mm : 0.0;
+  c.expect["GVS_Pitch"] = m.tilt_valid ? m.pitch_deg : 0.0;
+  c.expect["GVS_Roll"] = m.tilt_valid ? m.roll_deg : 0.0;
+  c.expect["GVS_HeightAge"] = m.age_ms;
+  return c;
+}
+
 }  // namespace
 
 std::vector<ExampleCase> example_cases() {
@@ -74,12 +89,19 @@ std::vector<ExampleCase> example_cases() {
   cases.push_back(xy_case({true, 69.444, -12.345, 3}, 4));
   cases.push_back(xy_case({true, -163.835, 163.835, 0}, 5));
   cases.push_back(xy_case({false, 0.0, 0.0, 65535}, 6));
+  cases.push_back(xy_case({true, 1.5, 0.25, 12, ScaleSourceCode::External}, 13));
+  cases.push_back(xy_case({true, 10.0, -0.5, 7, ScaleSourceCode::LaserDots}, 14));
   cases.push_back(status_case({SensorState::Running, 0, 0, 0, 0, 16}, 7));
-  cases.push_back(status_case({SensorState::Fault, 0x0FFF, 255, 128, 1, 255}, 8));
+  cases.push_back(status_case({SensorState::Fault, 0x1FFF, 255, 128, 1, 255}, 8));
+  cases.push_back(status_case({SensorState::Running, kFaultScaleUncorrected, 0, 0, 0, 40}, 13));
   cases.push_back(status_case({SensorState::Stopping, kFaultCanInterfaceDown | kFaultLight, 17, 3, 99, 1}, 9));
   cases.push_back(status_case({SensorState::Degraded, kFaultImplausible, 0, 0, 0, 0}, 12));
   cases.push_back(timing_case({65535, 0, 255}, 10));
   cases.push_back(timing_case({1234, 5678, 9}, 11));
+  cases.push_back(ride_height_case({true, true, ScaleSourceCode::LaserDots, 60.37, -1.25, 0.84, 3}, 0));
+  cases.push_back(ride_height_case({true, true, ScaleSourceCode::LaserDots, 655.35, 20.47, -20.47, 0}, 15));
+  cases.push_back(ride_height_case({true, false, ScaleSourceCode::External, 58.12, 0.0, 0.0, 4}, 1));
+  cases.push_back(ride_height_case({false, false, ScaleSourceCode::Nominal, 0.0, 0.0, 0.0, 255}, 2));
   return cases;
 }
 

@@ -119,6 +119,11 @@ BusEstimate estimate_for_cycle(int cycle, std::int64_t t_ns) {
   e.yaw_rate_dps = 10.0 - 0.2 * cycle;
   e.quality = 0.75;
   e.method_code = 33;
+  e.scale_source = ScaleSourceCode::LaserDots;
+  e.has_height = e.has_tilt = true;
+  e.height_mm = 60.0 + 0.01 * cycle;
+  e.pitch_deg = -0.5 + 0.01 * cycle;
+  e.roll_deg = 0.25;
   return e;
 }
 
@@ -135,7 +140,7 @@ void run_cycle(Encoder& enc, SocketCanSink& sink, int cycle, std::int64_t t, std
   const BusEstimate e = estimate_for_cycle(cycle, t);
   CanFrame v, x;
   enc.estimate_frames(&e, t, ValidityRule{}, true, v, x);
-  std::vector<CanFrame> frames{v, x};
+  std::vector<CanFrame> frames{v, x, enc.ride_height(ride_height_from_estimate(&e, t, ValidityRule{}))};
   if (cycle % 5 == 0) {
     StatusMsg st{SensorState::Running, 0, 0, 0, static_cast<std::uint8_t>(sink.counters().send_failures()),
                  e.method_code};
@@ -188,7 +193,7 @@ int traffic(const std::string& iface) {
   usleep(50'000);
   receive_all(rx, received, mon);
 
-  check(r.sent == kCycles * 2 + kCycles / 5 * 2, "sent " + std::to_string(r.sent) + " frames without a failure");
+  check(r.sent == kCycles * 3 + kCycles / 5 * 2, "sent " + std::to_string(r.sent) + " frames without a failure");
   check(sink.counters().send_failures() == 0, "no send failures counted");
   check(received.size() == sent.size(), "received " + std::to_string(received.size()) + " of " +
                                             std::to_string(sent.size()) + " frames");
@@ -218,6 +223,11 @@ int traffic(const std::string& iface) {
             std::fabs(mon.velocity_xy().vx_mps - last.vx_mps) <= 0.0025 + 1e-9,
         "last GVS_VelocityXY: valid, age 7 ms, vx matches");
   check(mon.status().state == SensorState::Running && mon.status().faults == 0, "GVS_Status running, no faults");
+  check(mon.ride_height().height_valid && mon.ride_height().tilt_valid &&
+            mon.ride_height().scale_source == ScaleSourceCode::LaserDots && mon.ride_height().age_ms == 7 &&
+            std::fabs(mon.ride_height().height_mm - 60.99) <= 0.005 + 1e-9 &&
+            std::fabs(mon.ride_height().pitch_deg - 0.49) <= 0.005 + 1e-9,
+        "last GVS_RideHeight: height 60.99 mm, pitch 0.49 deg, laser dots, age 7 ms");
   if (rx >= 0) ::close(rx);
   return 0;
 }

@@ -363,7 +363,16 @@ TEST(Pipeline, BoundedRunSendsExactlyItsPeriods) {
   EXPECT_EQ(msgs.velocity_xy.size(), 25u);
   EXPECT_EQ(msgs.status.size(), 5u);
   EXPECT_EQ(msgs.timing.size(), 5u);
+  EXPECT_EQ(msgs.ride_height.size(), 25u);
   EXPECT_EQ(msgs.unparsed, 0u);
+  // No height source: every speed rests on the nominal height, and the bus says so.
+  for (const auto& m : msgs.ride_height) {
+    EXPECT_FALSE(m.decoded.ride.height_valid);
+    EXPECT_EQ(m.decoded.ride.scale_source, can::ScaleSourceCode::Nominal);
+  }
+  for (std::size_t i = 1; i < msgs.status.size(); ++i) {  // the first may precede the first estimate
+    EXPECT_NE(msgs.status[i].decoded.status_msg.faults & can::kFaultScaleUncorrected, 0) << "status " << i;
+  }
   // Alive counters step by one per message of each ID.
   for (std::size_t i = 1; i < msgs.velocity.size(); ++i) {
     EXPECT_EQ(can::e2e_counter_delta(msgs.velocity[i - 1].decoded.counter, msgs.velocity[i].decoded.counter), 1);

@@ -20,7 +20,7 @@ struct LoggedMessage {
 };
 
 struct CandumpLog {
-  std::vector<LoggedMessage> velocity, velocity_xy, status, timing;
+  std::vector<LoggedMessage> velocity, velocity_xy, status, timing, ride_height;
   std::size_t lines = 0;
   std::size_t unparsed = 0;
   std::size_t bad_crc = 0;
@@ -47,6 +47,7 @@ inline CandumpLog read_candump_log(const std::string& path, std::uint32_t base_i
       case can::MessageKind::VelocityXy: log.velocity_xy.push_back(m); break;
       case can::MessageKind::Status: log.status.push_back(m); break;
       case can::MessageKind::Timing: log.timing.push_back(m); break;
+      case can::MessageKind::RideHeight: log.ride_height.push_back(m); break;
     }
   }
   return log;

@@ -99,8 +99,9 @@ const std::array kKeys{
     // [can]
     ConfigKey{.section = "can", .name = "uri", .field = GVS_FIELD(can_uri), .reload = restart,
               .help = "CAN output: socketcan:IFACE | candump:PATH (--can overrides it)"},
-    ConfigKey{.section = "can", .name = "base_id", .field = GVS_FIELD(base_id), .min = 0, .max = 0x7FC, .reload = restart,
-              .help = "11-bit CAN ID of GVS_Velocity; GVS_VelocityXY, GVS_Status, GVS_Timing follow", .hex = true},
+    ConfigKey{.section = "can", .name = "base_id", .field = GVS_FIELD(base_id), .min = 0, .max = 0x7FB, .reload = restart,
+              .help = "11-bit CAN ID of GVS_Velocity; GVS_VelocityXY, GVS_Status, GVS_Timing, GVS_RideHeight follow",
+              .hex = true},
     ConfigKey{.section = "can", .name = "period_ms", .field = GVS_FIELD(period_ms), .min = 4, .max = 100,
               .unit = "ms", .reload = restart,
               .help = "velocity messages, on an absolute schedule (the ECU expects 20)"},

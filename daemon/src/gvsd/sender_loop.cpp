@@ -1,7 +1,8 @@
 // The CAN sender: wakes on an absolute schedule (clock_nanosleep with
 // TIMER_ABSTIME, so lateness never accumulates), packs the latest estimate
 // and its age, and every status period the status and timing messages.
-// Stale or missing estimates go out with their Valid bits cleared.
+// Stale or missing estimates go out with their Valid bits cleared. Every
+// period: GVS_Velocity, GVS_VelocityXY and GVS_RideHeight.
 #include <array>
 
 #include "gvs/daemon/bus_estimate.hpp"
@@ -55,6 +56,9 @@ can::StatusMsg Pipeline::make_status(const PublishedEstimate& latest, const can:
   if (!realtime()) m.faults |= can::kFaultNoRealtime;
   if (now.implausible_estimates != status_last_.implausible_estimates) m.faults |= can::kFaultImplausible;
   if (now.light_errors != status_last_.light_errors) m.faults |= can::kFaultLight;
+  if (latest.sequence != 0 && latest.estimate.scale_source == core::ScaleSource::nominal) {
+    m.faults |= can::kFaultScaleUncorrected;
+  }
   m.faults = static_cast<std::uint16_t>(m.faults | sink_->take_fault_bits());
 
   if (stop_.load(std::memory_order_relaxed)) {
@@ -111,6 +115,7 @@ void Pipeline::sender_loop() noexcept {
                                                             latest.plausible, velocity_frame, xy_frame);
     send_frame(velocity_frame);
     send_frame(xy_frame);
+    send_frame(encoder_.ride_height(can::ride_height_from_estimate(latest.sequence != 0 ? &bus : nullptr, woke_ns, rule)));
     if (!pair.velocity.valid) bump(counters_.invalid_sent);
 
     if (latest.sequence != last_sequence) {

@@ -23,12 +23,17 @@ struct VelocityMsg {
   double quality_pct = 0.0;    ///< estimator quality 0..100 %
 };
 
+/// GVS_ScaleSource's codes (core::ScaleSource): which height the speed's
+/// scale rests on.
+enum class ScaleSourceCode : std::uint8_t { Nominal = 0, LaserDots = 1, External = 2 };
+
 /// GVS_VelocityXY. Vx, Vy are 0 when !valid.
 struct VelocityXyMsg {
   bool valid = false;
   double vx_mps = 0.0;  ///< vehicle x, forward
   double vy_mps = 0.0;  ///< vehicle y, left
   std::uint32_t age_ms = 65535;  ///< age of the estimate at send time; 65535 = none / >= 65.535 s
+  ScaleSourceCode scale_source = ScaleSourceCode::Nominal;  ///< of Vx, Vy and GVS_Speed (sent even when !valid)
 };
 
 /// Fault bits of GVS_Status (bit k = DBC signal at start bit 16 + k).
@@ -45,6 +50,7 @@ enum FaultBit : std::uint16_t {
   kFaultLight = 1u << 9,               ///< an LED ring / strobe write failed or a plan was refused since the last status
   kFaultNoRealtime = 1u << 10,         ///< running without real-time scheduling (desk mode)
   kFaultImplausible = 1u << 11,        ///< an estimate was held back as physically implausible since the last status
+  kFaultScaleUncorrected = 1u << 12,   ///< the newest speed's scale rests on the nominal height (no height measured)
 };
 
 struct StatusMsg {
@@ -54,6 +60,17 @@ struct StatusMsg {
   std::uint8_t ring_overruns = 0;     ///< running count modulo 256
   std::uint8_t can_send_errors = 0;   ///< running count modulo 256
   std::uint8_t method = 0;            ///< GVS_Method: the newest estimate's method code (BusEstimate::method_code)
+};
+
+/// GVS_RideHeight. A value whose valid flag is false is sent as 0.
+struct RideHeightMsg {
+  bool height_valid = false;
+  bool tilt_valid = false;  ///< pitch and roll
+  ScaleSourceCode scale_source = ScaleSourceCode::Nominal;
+  double height_mm = 0.0;  ///< camera above the ground
+  double pitch_deg = 0.0;  ///< ISO 8855: + = nose down
+  double roll_deg = 0.0;   ///< ISO 8855: + = right side down
+  std::uint32_t age_ms = 255;  ///< age of the measurement at send time; saturates at 255 (= none or older)
 };
 
 struct TimingMsg {
@@ -74,7 +91,7 @@ struct MessageIds {
 };
 
 /// Throws std::invalid_argument (saying what to do) if the base ID leaves no
-/// room for the four standard 11-bit IDs base..base+3.
+/// room for the five standard 11-bit IDs base..base+4.
 void validate_base_id(std::uint32_t base_id);
 
 // Pure packing: frame with E2E header (counter, CRC) from physical values.
@@ -82,6 +99,7 @@ CanFrame encode_velocity(const VelocityMsg& m, const MessageIds& ids, std::uint8
 CanFrame encode_velocity_xy(const VelocityXyMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
 CanFrame encode_status(const StatusMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
 CanFrame encode_timing(const TimingMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
+CanFrame encode_ride_height(const RideHeightMsg& m, const MessageIds& ids, std::uint8_t counter) noexcept;
 
 /// The newest estimate as the bus sees it, filled by the daemon from the
 /// estimator's output. A quantity without its has_ flag is meaningless.
@@ -98,6 +116,12 @@ struct BusEstimate {
   double vy_mps = 0.0;
   double quality = 0.0;         ///< [0, 1]
   std::uint8_t method_code = 0; ///< GVS_Method (docs/can-interface.md, "Method codes")
+  ScaleSourceCode scale_source = ScaleSourceCode::Nominal;  ///< the height speed, vx, vy are scaled with
+  bool has_height = false;  ///< the camera's height, measured for this estimate's instant
+  double height_mm = 0.0;
+  bool has_tilt = false;  ///< pitch and roll, measured for this estimate's instant
+  double pitch_deg = 0.0;
+  double roll_deg = 0.0;
 };
 
 /// When an estimate may go out as valid (docs/can-interface.md, "Validity").
@@ -126,6 +150,14 @@ struct VelocityPair {
 VelocityPair velocity_from_estimate(const BusEstimate* estimate, std::int64_t now_ns, const ValidityRule& rule,
                                     bool plausible = true) noexcept;
 
+/// GVS_RideHeight for the newest estimate (nullptr = none yet): height and
+/// tilt valid when the estimate carries them, they lie in their DBC range
+/// and the estimate is fresh (`rule.stale_after_ms`). The estimator's quality
+/// and the velocity's plausibility do not gate them: the height is measured
+/// by other means (docs/can-interface.md, "GVS_RideHeight").
+RideHeightMsg ride_height_from_estimate(const BusEstimate* estimate, std::int64_t now_ns,
+                                        const ValidityRule& rule) noexcept;
+
 struct EncoderConfig {
   std::uint32_t base_id = kDefaultBaseId;
 };
@@ -143,6 +175,7 @@ class Encoder {
   CanFrame velocity_xy(const VelocityXyMsg& m) noexcept;
   CanFrame status(const StatusMsg& m) noexcept;
   CanFrame timing(const TimingMsg& m) noexcept;
+  CanFrame ride_height(const RideHeightMsg& m) noexcept;
 
   /// Both 20 ms frames for the newest estimate (nullptr = none yet) under
   /// `rule` (velocity_from_estimate); returns what they carry. gvsd's sender
@@ -175,6 +208,7 @@ struct DecodedFrame {
   VelocityXyMsg xy;      ///< filled for kind == VelocityXy
   StatusMsg status_msg;  ///< filled for kind == Status
   TimingMsg timing;      ///< filled for kind == Timing
+  RideHeightMsg ride;    ///< filled for kind == RideHeight
 };
 
 /// Decodes any frame; never throws, accepts arbitrary input.

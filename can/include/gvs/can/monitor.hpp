@@ -77,6 +77,7 @@ class MonitorState {
   [[nodiscard]] const VelocityXyMsg& velocity_xy() const noexcept { return xy_; }
   [[nodiscard]] const StatusMsg& status() const noexcept { return status_; }
   [[nodiscard]] const TimingMsg& timing() const noexcept { return timing_; }
+  [[nodiscard]] const RideHeightMsg& ride_height() const noexcept { return ride_; }
   [[nodiscard]] std::int64_t last_t_ns() const noexcept { return last_t_ns_; }
 
   /// Nothing at all for longer than this: the view says so on top.
@@ -100,6 +101,7 @@ class MonitorState {
   VelocityXyMsg xy_;
   StatusMsg status_;
   TimingMsg timing_;
+  RideHeightMsg ride_;
   std::uint64_t total_frames_ = 0;
   std::uint64_t other_frames_ = 0;
   std::uint64_t malformed_lines_ = 0;

@@ -27,8 +27,8 @@ struct SignalSpec {
   std::string_view unit;
 };
 
-enum class MessageKind : std::uint8_t { Velocity = 0, VelocityXy = 1, Status = 2, Timing = 3 };
-inline constexpr std::size_t kMessageKindCount = 4;
+enum class MessageKind : std::uint8_t { Velocity = 0, VelocityXy = 1, Status = 2, Timing = 3, RideHeight = 4 };
+inline constexpr std::size_t kMessageKindCount = 5;
 
 struct MessageSpec {
   MessageKind kind;
@@ -38,7 +38,8 @@ struct MessageSpec {
   std::span<const SignalSpec> signals;
 };
 
-/// Default base ID: GVS_Velocity 0x300, GVS_VelocityXY 0x301, GVS_Status 0x302, GVS_Timing 0x303.
+/// Default base ID: GVS_Velocity 0x300, GVS_VelocityXY 0x301, GVS_Status 0x302, GVS_Timing 0x303,
+/// GVS_RideHeight 0x304.
 inline constexpr std::uint32_t kDefaultBaseId = 0x300;
 
 // Every message starts with the E2E header: signal 0 = CRC, signal 1 = alive counter.
@@ -67,12 +68,13 @@ inline constexpr SignalSpec kVelocityXySignals[] = {
     {"GVS_CRC",      0,  8, false, 1.0,   0.0,      0.0,     255.0, ""},
     {"GVS_Counter",  8,  4, false, 1.0,   0.0,      0.0,      15.0, ""},
     {"GVS_Valid",   12,  1, false, 1.0,   0.0,      0.0,       1.0, ""},
+    {"GVS_ScaleSource", 13, 2, false, 1.0, 0.0,     0.0,       3.0, ""},
     {"GVS_Vx",      16, 16, true,  0.005, 0.0, -163.835,   163.835, "m/s"},
     {"GVS_Vy",      32, 16, true,  0.005, 0.0, -163.835,   163.835, "m/s"},
     {"GVS_Age",     48, 16, false, 1.0,   0.0,      0.0,   65535.0, "ms"},
 };
 namespace sig_velocity_xy {
-inline constexpr std::size_t kValid = 2, kVx = 3, kVy = 4, kAge = 5;
+inline constexpr std::size_t kValid = 2, kScaleSource = 3, kVx = 4, kVy = 5, kAge = 6;
 }
 
 // Fault signals occupy bits 16..31; fault bit k of StatusMsg::faults is the
@@ -94,14 +96,15 @@ inline constexpr SignalSpec kStatusSignals[] = {
     {"GVS_FaultLight",           25, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
     {"GVS_FaultNoRealtime",      26, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
     {"GVS_FaultImplausible",     27, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
+    {"GVS_FaultScaleUncorrected",28, 1, false, 1.0, 0.0, 0.0,   1.0, ""},
     {"GVS_DroppedFrames",        32, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
     {"GVS_RingOverruns",         40, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
     {"GVS_CanSendErrors",        48, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
     {"GVS_Method",               56, 8, false, 1.0, 0.0, 0.0, 255.0, ""},
 };
 namespace sig_status {
-inline constexpr std::size_t kState = 2, kFirstFault = 3, kFaultCount = 12, kDroppedFrames = 15,
-                             kRingOverruns = 16, kCanSendErrors = 17, kMethod = 18;
+inline constexpr std::size_t kState = 2, kFirstFault = 3, kFaultCount = 13, kDroppedFrames = 16,
+                             kRingOverruns = 17, kCanSendErrors = 18, kMethod = 19;
 }
 
 inline constexpr SignalSpec kTimingSignals[] = {
@@ -115,11 +118,31 @@ namespace sig_timing {
 inline constexpr std::size_t kExposure = 2, kProcessingTime = 3, kLateWakeups = 4;
 }
 
+// The camera's height above the ground and the ground plane's tilt at the
+// sensor (ISO 8855: pitch + nose down, roll + right side down), and which
+// height the speed's scale rests on (GVS_ScaleSource, core::ScaleSource).
+inline constexpr SignalSpec kRideHeightSignals[] = {
+    {"GVS_CRC",          0,  8, false, 1.0,  0.0,    0.0,   255.0, ""},
+    {"GVS_Counter",      8,  4, false, 1.0,  0.0,    0.0,    15.0, ""},
+    {"GVS_HeightValid", 12,  1, false, 1.0,  0.0,    0.0,     1.0, ""},
+    {"GVS_TiltValid",   13,  1, false, 1.0,  0.0,    0.0,     1.0, ""},
+    {"GVS_ScaleSource", 14,  2, false, 1.0,  0.0,    0.0,     3.0, ""},
+    {"GVS_Height",      16, 16, false, 0.01, 0.0,    0.0,  655.35, "mm"},
+    {"GVS_Pitch",       32, 12, true,  0.01, 0.0, -20.47,   20.47, "deg"},
+    {"GVS_Roll",        44, 12, true,  0.01, 0.0, -20.47,   20.47, "deg"},
+    {"GVS_HeightAge",   56,  8, false, 1.0,  0.0,    0.0,   255.0, "ms"},
+};
+namespace sig_ride_height {
+inline constexpr std::size_t kHeightValid = 2, kTiltValid = 3, kScaleSource = 4, kHeight = 5, kPitch = 6,
+                             kRoll = 7, kHeightAge = 8;
+}
+
 inline constexpr MessageSpec kMessages[kMessageKindCount] = {
     {MessageKind::Velocity,   "GVS_Velocity",   0, 20,  kVelocitySignals},
     {MessageKind::VelocityXy, "GVS_VelocityXY", 1, 20,  kVelocityXySignals},
     {MessageKind::Status,     "GVS_Status",     2, 100, kStatusSignals},
     {MessageKind::Timing,     "GVS_Timing",     3, 100, kTimingSignals},
+    {MessageKind::RideHeight, "GVS_RideHeight", 4, 20,  kRideHeightSignals},
 };
 // clang-format on
 

@@ -12,6 +12,11 @@
 
 namespace gvs::daemon {
 
+// core::ScaleSource and GVS_ScaleSource share their codes.
+static_assert(static_cast<int>(can::ScaleSourceCode::Nominal) == static_cast<int>(core::ScaleSource::nominal));
+static_assert(static_cast<int>(can::ScaleSourceCode::LaserDots) == static_cast<int>(core::ScaleSource::laser_dots));
+static_assert(static_cast<int>(can::ScaleSourceCode::External) == static_cast<int>(core::ScaleSource::external));
+
 inline can::BusEstimate bus_estimate(const core::VelocityEstimate& e) noexcept {
   can::BusEstimate b;
   b.t_ns = e.t_ns;
@@ -26,6 +31,12 @@ inline can::BusEstimate bus_estimate(const core::VelocityEstimate& e) noexcept {
   b.vy_mps = e.vy_mps;
   b.quality = e.quality;
   b.method_code = core::method_can_code(e.method);
+  b.scale_source = static_cast<can::ScaleSourceCode>(e.scale_source);
+  b.has_height = e.ride.has_height;
+  b.height_mm = e.ride.height_mm;
+  b.has_tilt = e.ride.has_tilt;
+  b.pitch_deg = e.ride.pitch_deg;
+  b.roll_deg = e.ride.roll_deg;
   return b;
 }
 
