@@ -166,6 +166,15 @@ int run(const CommandLine& cli) {
     }
     pipeline = std::make_unique<Pipeline>(config, std::move(source), std::move(estimator), std::move(sink), hooks);
     if (config.light.driver != "none") spdlog::info("gvsd: light and trigger: {}", pipeline->light_description());
+    if (config.height.source == "can") {
+      spdlog::info("gvsd: speed scale: height from CAN ID 0x{:X} on {} over a nominal {} mm (GVS_ScaleSource external "
+                   "while its frames arrive)",
+                   config.height.can_id, config.height.interface.empty() ? config.can_uri : config.height.interface,
+                   config.height.nominal_mm);
+    } else {
+      spdlog::info("gvsd: speed scale: nominal, uncorrected for heave, pitch and roll (no [height] source; "
+                   "GVS_FaultScaleUncorrected is set)");
+    }
     // From here on the stop/reload signals are blocked in every thread (the
     // RT threads inherit the mask) and the main thread takes them with
     // sigtimedwait, so no handler ever runs on an RT thread. Before this

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "gvs/daemon/config.hpp"
+#include "gvs/daemon/external_height.hpp"
 #include "gvs/drivers/sim/ground_spec.hpp"
 #include "gvs/dsp/estimator.hpp"
 
@@ -30,6 +31,8 @@ std::vector<std::string> exposure_modes() { return {"fixed", "adaptive", "double
 std::vector<std::string> pixel_formats() { return {"R8", "YUV420"}; }
 std::vector<std::string> light_drivers() { return {"none", "gpio", "pwm"}; }
 std::vector<std::string> log_levels() { return log_level_names(); }
+std::vector<std::string> height_sources() { return {"none", "can"}; }
+std::vector<std::string> byte_orders() { return {"intel", "motorola"}; }
 
 const std::array kSections{
     ConfigSection{"source",
@@ -51,6 +54,14 @@ const std::array kSections{
                   "Camera geometry (replay takes the dataset's camera.json instead) and the sensor's\n"
                   "position relative to the car's reference point, vehicle axes (x forward, y left):\n"
                   "the velocity is moved there with the yaw rate, v_ref = v_sensor - omega x r."},
+    ConfigSection{"height",
+                  "The camera's height from an external distance sensor on CAN, for a head without laser\n"
+                  "dots (docs/can-interface.md, \"External height\"). Each estimate's speed is scaled by\n"
+                  "height / nominal_mm at its mid-exposure instant (interpolated between the sensor's\n"
+                  "frames) and goes out with GVS_ScaleSource = external; without a sample near enough\n"
+                  "the scale stays nominal and GVS_FaultScaleUncorrected says so. The signal is given\n"
+                  "as its DBC line gives it: SG_ H : 7|16@0+ (0.01,0) is start_bit 7, length 16,\n"
+                  "motorola, scale 0.01."},
     ConfigSection{"estimator", "How a frame becomes a velocity (docs/estimator.md)."},
     ConfigSection{"exposure",
                   "Closed loop: the processing thread plans the next exposure from the latest estimate\n"
@@ -153,6 +164,37 @@ const std::array kKeys{
               .max = 10, .unit = "m", .reload = restart, .help = "sensor ahead of the reference point"},
     ConfigKey{.section = "camera", .name = "lever_arm_y_m", .field = GVS_FIELD(lever_arm_y_m), .min = -10,
               .max = 10, .unit = "m", .reload = restart, .help = "sensor left of the reference point"},
+    // [height]
+    ConfigKey{.section = "height", .name = "source", .field = GVS_FIELD(height.source), .allowed = height_sources,
+              .reload = restart, .help = "can: an external distance sensor's frames; none: no height"},
+    ConfigKey{.section = "height", .name = "interface", .field = GVS_FIELD(height.interface), .reload = restart,
+              .help = "SocketCAN interface it is received on", .only_when = "source = \"can\"",
+              .example = "\"can0\"", .note = "empty = the interface of [can] uri"},
+    ConfigKey{.section = "height", .name = "can_id", .field = GVS_FIELD(height.can_id), .min = 0, .max = 0x1FFFFFFF,
+              .reload = restart, .help = "the sensor's message", .only_when = "source = \"can\"", .hex = true},
+    ConfigKey{.section = "height", .name = "extended", .field = GVS_FIELD(height.extended), .reload = restart,
+              .help = "29-bit identifier", .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "start_bit", .field = GVS_FIELD(height.start_bit), .min = 0, .max = 63,
+              .reload = restart, .help = "the signal's DBC start bit", .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "length", .field = GVS_FIELD(height.length), .min = 1, .max = 32,
+              .unit = "bits", .reload = restart, .help = "the signal's length", .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "byte_order", .field = GVS_FIELD(height.byte_order),
+              .allowed = byte_orders, .reload = restart, .help = "intel (@1) or motorola (@0)",
+              .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "signed", .field = GVS_FIELD(height.is_signed), .reload = restart,
+              .help = "two's complement (-) or unsigned (+)", .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "scale", .field = GVS_FIELD(height.scale), .min = -1000, .max = 1000,
+              .unit = "mm", .reload = restart, .help = "mm per raw step", .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "offset_mm", .field = GVS_FIELD(height.offset_mm), .min = -10000,
+              .max = 10000, .unit = "mm", .reload = restart,
+              .help = "height = raw * scale + offset_mm, of the camera's optical centre above the ground",
+              .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "nominal_mm", .field = GVS_FIELD(height.nominal_mm), .min = 1,
+              .max = 10000, .unit = "mm", .reload = restart,
+              .help = "the camera's height when [camera] mm_per_px was calibrated", .only_when = "source = \"can\""},
+    ConfigKey{.section = "height", .name = "max_gap_ms", .field = GVS_FIELD(height.max_gap_ms), .min = 0.1,
+              .max = 1000, .unit = "ms", .reload = restart,
+              .help = "samples further apart, or older, than this give no height", .only_when = "source = \"can\""},
     // [estimator]
     ConfigKey{.section = "estimator", .name = "method", .field = GVS_FIELD(estimator_method),
               .allowed = estimator_methods, .reload = restart,
@@ -305,6 +347,19 @@ void check_gpio_lines(const DaemonConfig& c) {
   }
 }
 
+void check_external_height(const DaemonConfig& c) {
+  if (c.height.source != "can") return;
+  try {
+    can::validate(external_height_signal(c.height));
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(c.origin + ": [height] " + e.what());
+  }
+  if (c.height.interface.empty() && c.can_uri.rfind("socketcan:", 0) != 0) {
+    throw ConfigError(c.origin + ": [height] source = \"can\" needs interface (the CAN interface the sensor is on), "
+                      "or a [can] uri = \"socketcan:IFACE\" to share");
+  }
+}
+
 const std::array kRules{
     ConfigRule{"source", "`sim_ground` is `procedural` or `photo:FILE[:MM_PER_PIXEL]` with a scale of 0.01 .. 5 mm/px",
                check_sim_ground},
@@ -314,6 +369,8 @@ const std::array kRules{
     ConfigRule{"light", "`driver = \"gpio\"` needs `led_line`, and `trigger_line` differs from it",
                check_gpio_lines},
     ConfigRule{"threads", "`prefault_stack_kb` is at most half of `stack_kb`", check_prefault_within_stack},
+    ConfigRule{"height", "with `source = \"can\"`, the signal lies in 8 bytes, its ID fits its format, scale is not 0, and an interface is known",
+               check_external_height},
 };
 
 /// Reads a key of a config that is not changed: the table's accessor takes a

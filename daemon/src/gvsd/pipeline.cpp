@@ -1,6 +1,7 @@
 // Pipeline set-up and tear-down: everything the real-time loops touch is
 // made here, before the first frame.
 #include "gvs/daemon/pipeline.hpp"
+#include "gvs/daemon/external_height.hpp"
 
 #include <pthread.h>
 
@@ -52,6 +53,14 @@ Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<drivers::FrameSou
   if (!source_ || !estimator_ || !sink_) throw std::invalid_argument("Pipeline: source, estimator and CAN sink are required");
   if (config.status_period_ms % config.period_ms != 0) {
     throw std::invalid_argument("Pipeline: status_period_ms must be a multiple of period_ms");
+  }
+  if (config.height.source == "can") {
+    external_height_ = true;
+    if (!hooks_.height_samples) {
+      std::string iface = config.height.interface;
+      if (iface.empty() && config.can_uri.rfind("socketcan:", 0) == 0) iface = config.can_uri.substr(10);
+      height_receiver_ = std::make_unique<can::HeightReceiver>(iface, external_height_signal(config.height));
+    }
   }
   core::ExposurePlan initial;
   initial.exposure_us = config.exposure_initial_us;

@@ -1,8 +1,10 @@
 // The processing thread: newest frame -> estimator -> plausibility gate ->
 // latest estimate (seqlock) -> exposure controller -> next exposure plan (seqlock).
 #include <algorithm>
+#include <optional>
 
 #include "gvs/drivers/clock.hpp"
+#include "gvs/daemon/external_height.hpp"
 #include "gvs/daemon/pipeline.hpp"
 
 namespace gvs::daemon {
@@ -38,6 +40,17 @@ void Pipeline::processing_loop() noexcept {
 
     const std::int64_t t0 = drivers::mono_now_ns();
     core::VelocityEstimate e = estimator_->estimate(*slot);
+    if (external_height_) {  // the sensor's velocity is scaled first, then moved to the reference point
+      if (height_receiver_) {
+        height_receiver_->drain(height_history_);
+      } else {
+        hooks_.height_samples(height_history_);
+      }
+      const auto max_gap_ns = static_cast<std::int64_t>(config_.height.max_gap_ms * 1e6);
+      if (const std::optional<double> h = height_history_.at(e.t_ns, max_gap_ns)) {
+        apply_external_height(e, *h, config_.height.nominal_mm);
+      }
+    }
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
     const std::int64_t t1 = drivers::mono_now_ns();
     if (!e.has_speed) bump(e.has_direction ? counters_.direction_only : counters_.estimator_failures);

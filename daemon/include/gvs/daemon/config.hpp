@@ -31,6 +31,24 @@ struct ThreadConfig {
   int cpu = -1;
 };
 
+/// [height]: the camera's height from an external distance sensor on CAN
+/// (docs/can-interface.md, "External height"), its signal as a DBC line
+/// describes it.
+struct ExternalHeightConfig {
+  std::string source = "none";  ///< none | can
+  std::string interface;        ///< SocketCAN interface; empty = the one of [can] uri
+  std::uint32_t can_id = 0x520;
+  bool extended = false;
+  int start_bit = 0;
+  int length = 16;
+  std::string byte_order = "intel";  ///< intel (@1) | motorola (@0)
+  bool is_signed = false;
+  double scale = 0.01;    ///< mm per raw step
+  double offset_mm = 0.0; ///< height = raw * scale + offset_mm: the camera's optical centre above the ground
+  double nominal_mm = 60.0;  ///< the camera's height when [camera] mm_per_px was calibrated
+  double max_gap_ms = 20.0;  ///< samples further apart (or older) than this: no height, the scale stays nominal
+};
+
 struct DaemonConfig {
   std::string origin = "(built-in defaults)";  ///< file the values came from
 
@@ -55,6 +73,9 @@ struct DaemonConfig {
   core::CameraGeometry camera;
   double lever_arm_x_m = 0.0;  ///< sensor position relative to the car's reference point, vehicle axes
   double lever_arm_y_m = 0.0;
+
+  // [height]
+  ExternalHeightConfig height;
 
   // [estimator]
   std::string estimator_method = "gvs";

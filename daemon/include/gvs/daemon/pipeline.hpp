@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "gvs/can/codec.hpp"
+#include "gvs/can/height_receiver.hpp"
 #include "gvs/can/sink.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/frame_estimator.hpp"
@@ -56,6 +57,10 @@ struct PipelineHooks {
   /// When set, builds the [light] driver instead of drivers::make_strobe_driver
   /// (tests: a strobe whose failures they script).
   std::function<std::unique_ptr<drivers::StrobeDriver>(const drivers::StrobeConfig&)> make_light;
+  /// With [height] source = "can": called on the processing thread before
+  /// each estimate instead of reading the CAN interface, to add the samples
+  /// received since (tests: a distance sensor they script).
+  std::function<void(can::HeightHistory&)> height_samples;
 };
 
 /// Progress counters for the watchdog: each changes while its thread runs.
@@ -161,6 +166,11 @@ class Pipeline {
   Seqlock<ExposureSettings> exposure_settings_;  ///< written by the main thread (reload)
   Seqlock<PlausibilityLimits> plausibility_limits_;  ///< written by the main thread (reload)
   PlausibilityGate gate_;  ///< processing thread only
+  /// [height] source = "can": the distance sensor's frames (unless
+  /// hooks_.height_samples stands in) and their history; processing thread only.
+  std::unique_ptr<can::HeightReceiver> height_receiver_;
+  can::HeightHistory height_history_;
+  bool external_height_ = false;
   can::Encoder encoder_;
 
   std::atomic<std::int64_t> staleness_ms_{50};
