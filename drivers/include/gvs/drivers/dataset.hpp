@@ -12,6 +12,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "gvs/core/frame.hpp"
+#include "gvs/core/laser_geometry.hpp"
 
 namespace gvs::drivers {
 
@@ -33,6 +34,9 @@ struct CameraInfo {
   /// where mm_per_px holds (key "height_mm", written by the simulator);
   /// empty: not recorded.
   std::optional<double> height_mm;
+  /// The head's laser dots (optional key "lasers"; count 0: none, and the
+  /// key is not written).
+  core::LaserGeometry lasers;
 };
 
 /// One row of frames.csv.
