@@ -109,6 +109,8 @@ void run_sim(const SimOptions& o) {
     dsp::FrameProcessorConfig pc;
     pc.estimator.method = o.loop_method;
     pc.estimator.camera = config.camera;
+    pc.lasers = config.lasers;  // the dots masked out of what the loop's estimator sees
+    pc.nominal_height_mm = config.camera_height_mm;
     loop = std::make_unique<dsp::FrameProcessor>(pc);
     limits = dsp::exposure_limits_for(config.camera, config.fps);
     limits.max_exposure_us = config.exposure_us;
