@@ -67,3 +67,9 @@ core::LaserGeometry laser_geometry_from_json(const nlohmann::json& j, const std:
 }
 
 }  // namespace gvs::drivers::detail
+
+namespace gvs::drivers {
+std::string laser_geometry_json_text(const core::LaserGeometry& lasers) {
+  return detail::laser_geometry_json(lasers).dump(2);
+}
+}  // namespace gvs::drivers

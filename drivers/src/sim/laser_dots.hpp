@@ -26,7 +26,7 @@ struct LaserLight {
   /// Irradiance at the spot's centre over the LED ring's, both on the same
   /// ground (the laser is switched and overdriven with the LED strobe, so
   /// the ratio holds in every exposure mode).
-  double peak_relative = 4.0;
+  double peak_relative = 8.0;
   /// Size of a speckle grain on the ground, mm: lambda / (2 NA), 0.65 um
   /// over twice the lens's object-side NA of 0.012 (a 1.4 mm pupil 60 mm
   /// away): 0.027 mm, a quarter of a pixel.

@@ -16,6 +16,7 @@ constexpr double kInnerSigmas = 1.5;     // the spot: within 1.5 sigma
 constexpr double kRingInnerSigmas = 2.5;  // the ground around it
 constexpr double kRingOuterSigmas = 3.5;
 constexpr double kWindowSigmas = 3.0;    // the centroid's window
+constexpr double kWeightSigmas = 1.0;    // the centroid's Gaussian weight, in spot sigmas
 constexpr double kMaskFullSigmas = 3.0;  // mask: the ground's mean inside, tapering to the frame by ...
 constexpr double kMaskEdgeSigmas = 4.5;  // ... here
 
@@ -126,8 +127,8 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
   dot.contrast_dn = responses_[best];
   dot.peak_sigmas = spread > 0.0 ? peak / spread : 0.0;
   dot.rival_fraction = rival < n && peak > 0.0 ? (responses_[rival] - median) / peak : 0.0;
-  const bool bright = responses_[best] >= kMinContrastDn && peak >= kMinSigmas * spread;
-  const bool contested = rival < n && responses_[rival] - median >= kMaxRivalFraction * peak;
+  const bool bright = responses_[best] >= thresholds_.min_contrast_dn && peak >= thresholds_.min_sigmas * spread;
+  const bool contested = rival < n && responses_[rival] - median >= thresholds_.max_rival_fraction * peak;
   if (bright) {
     dot.masked = true;
     dot.mask_row = t.row[best];
@@ -160,7 +161,7 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
       const double y = r - rc, x = c - cc;
       const double along = (y * t.er + x * t.ec) / t.sigma_along_px;
       const double across = (-y * t.ec + x * t.er) / t.sigma_across_px;
-      const double w = light * std::exp(-0.5 * (along * along + across * across));
+      const double w = light * std::exp(-0.5 * (along * along + across * across) / (kWeightSigmas * kWeightSigmas));
       sw += w;
       sr += w * r;
       sc += w * c;
@@ -171,7 +172,7 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
   }
   // 4. On its track? (A stone beside the track pulls the centroid off it.)
   const double across = -(rc - t.row0) * t.ec + (cc - t.col0) * t.er;
-  if (std::abs(across) > kMaxOffTrackPx) {
+  if (std::abs(across) > thresholds_.max_off_track_px) {
     dot.status = DotStatus::off_track;
     return;
   }
@@ -199,7 +200,8 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
   // A plane outside what the finder searched, or tilted beyond any car's
   // attitude, is not the ground: no height.
   if (!ride.has_height || ride.height_mm < lasers_.min_height_mm || ride.height_mm > lasers_.max_height_mm ||
-      std::abs(ride.pitch_deg) > 10.0 || std::abs(ride.roll_deg) > 10.0) {
+      std::abs(ride.pitch_deg) > thresholds_.max_tilt_deg ||
+      std::abs(ride.roll_deg) > thresholds_.max_tilt_deg) {
     return out;
   }
   out.ride = ride;

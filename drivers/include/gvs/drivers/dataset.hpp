@@ -64,6 +64,9 @@ struct TruthRecord {
   std::optional<double> roll_deg;   ///< ISO 8855: positive = right side down; empty: level
 };
 
+/// camera.json's "lasers" object for `lasers`, as JSON text.
+std::string laser_geometry_json_text(const core::LaserGeometry& lasers);
+
 /// Parses the `pulses` column ("0:20|400:20", empty = continuous). Throws
 /// std::invalid_argument with a message saying what is wrong.
 core::ExposurePlan parse_pulses(const std::string& text, double exposure_us);

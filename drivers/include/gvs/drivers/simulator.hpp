@@ -45,7 +45,7 @@ struct SimulatorConfig {
   /// (count 0, the default): frames are exactly those of a head without lasers.
   core::LaserGeometry lasers;
   /// Brightness of the dots against the LED ring's light, and their speckle.
-  double laser_peak_relative = 4.0;
+  double laser_peak_relative = 8.0;
   double laser_speckle_grain_mm = 0.027;  ///< lambda / (2 NA) on the ground
   bool loop = false;           ///< start the scenario again when it ends (daemon)
   std::uint64_t sensor_seed = 7;  ///< fixed-pattern noise of "the" sensor (not the scene)

@@ -62,15 +62,22 @@ class LaserDotFinder {
 
   [[nodiscard]] const core::LaserGeometry& lasers() const { return lasers_; }
 
-  /// A dot is found when its response stands this many robust sigmas
-  /// (1.4826 MAD of the responses along the track) above the track ...
-  static constexpr double kMinSigmas = 5.0;
-  /// ... and at least this bright over the ground beside it, DN ...
-  static constexpr double kMinContrastDn = 12.0;
-  /// ... and no rival elsewhere on the track reaches this fraction of it.
-  static constexpr double kMaxRivalFraction = 0.75;
-  /// A centroid further than this from the track is not the dot, px.
-  static constexpr double kMaxOffTrackPx = 1.5;
+  /// When a dot counts as found, and which ground counts as the ground.
+  struct Thresholds {
+    /// Its response stands this many robust sigmas (1.4826 MAD of the
+    /// responses along the track) above the track ...
+    double min_sigmas = 5.0;
+    /// ... and at least this bright over the ground around it, DN ...
+    double min_contrast_dn = 12.0;
+    /// ... and no rival elsewhere on the track reaches this fraction of it.
+    double max_rival_fraction = 0.75;
+    /// A centroid further than this from the track is not the dot, px.
+    double max_off_track_px = 1.5;
+    /// A plane tilted more than this is not the ground (a wrong dot), deg.
+    double max_tilt_deg = 4.0;
+  };
+  [[nodiscard]] const Thresholds& thresholds() const { return thresholds_; }
+  void set_thresholds(const Thresholds& t) { thresholds_ = t; }
 
  private:
   struct Offset {
@@ -92,6 +99,7 @@ class LaserDotFinder {
   core::LaserGeometry lasers_;
   std::array<Track, core::LaserGeometry::kMaxBeams> tracks_{};
   std::vector<double> responses_, backgrounds_, scratch_;
+  Thresholds thresholds_;
 };
 
 }  // namespace gvs::dsp
