@@ -142,20 +142,42 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
     }
   }
   dot.status = !bright ? DotStatus::faint : DotStatus::contested;
-  if (!bright || contested) return;
-  dot.status = DotStatus::at_edge;
+  if (!bright) return;
+  if (contested) {
+    // Both measured: the ground plane may tell which is the dot (find()).
+    dot.alternatives = 0;
+    for (const std::size_t i : {best, rival}) {
+      Candidate& cand = dot.candidates[dot.alternatives];
+      if (measure(gray, k, i, cand) != DotStatus::found) return;  // one unmeasurable: leave it contested
+      ++dot.alternatives;
+    }
+    return;
+  }
+  Candidate cand;
+  dot.status = measure(gray, k, best, cand);
+  if (dot.status != DotStatus::found) return;
+  dot.found = true;
+  dot.row = cand.row;
+  dot.col = cand.col;
+  dot.ground_mm = cand.ground_mm;
+  dot.mask_row = cand.row;
+  dot.mask_col = cand.col;
+}
+
+DotStatus LaserDotFinder::measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const {
+  const Track& t = tracks_[k];
   // 3. Centroid of the light over the ground around it, weighted with the
   //    spot's own Gaussian centred on the current estimate (a matched
   //    centroid: pixels far out, mostly asphalt and noise, count little),
   //    in a window of +-3 sigma, four times from the peak.
-  const double bg = backgrounds_[best];
-  double rc = t.row[best], cc = t.col[best];
+  const double bg = backgrounds_[sample];
+  double rc = t.row[sample], cc = t.col[sample];
   for (int iter = 0; iter < 4; ++iter) {
     const int r0 = static_cast<int>(std::lround(rc)), c0 = static_cast<int>(std::lround(cc));
     double sw = 0.0, sr = 0.0, sc = 0.0;
     for (const Offset& o : t.window) {
       const int r = r0 + o.dr, c = c0 + o.dc;
-      if (r < 0 || c < 0 || r >= gray.rows || c >= gray.cols) return;  // window leaves the frame: not measured
+      if (r < 0 || c < 0 || r >= gray.rows || c >= gray.cols) return DotStatus::at_edge;  // not measurable
       const double light = gray.at<std::uint8_t>(r, c) - bg;
       if (light <= 0.0) continue;
       const double y = r - rc, x = c - cc;
@@ -166,46 +188,76 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
       sr += w * r;
       sc += w * c;
     }
-    if (!(sw > 0.0)) return;
+    if (!(sw > 0.0)) return DotStatus::at_edge;
     rc = sr / sw;
     cc = sc / sw;
   }
   // 4. On its track? (A stone beside the track pulls the centroid off it.)
   const double across = -(rc - t.row0) * t.ec + (cc - t.col0) * t.er;
-  if (std::abs(across) > thresholds_.max_off_track_px) {
-    dot.status = DotStatus::off_track;
-    return;
-  }
-  core::Vec3 p;
-  if (!triangulate(lasers_.beams[k], core::pixel_ray(camera_, nominal_height_mm_, rc, cc), p)) return;
-  dot.found = true;
-  dot.status = DotStatus::found;
-  dot.row = rc;
-  dot.col = cc;
-  dot.ground_mm = p;
-  dot.mask_row = rc;
-  dot.mask_col = cc;
+  if (std::abs(across) > thresholds_.max_off_track_px) return DotStatus::off_track;
+  if (!triangulate(lasers_.beams[k], core::pixel_ray(camera_, nominal_height_mm_, rc, cc), out.ground_mm))
+    return DotStatus::at_edge;
+  out.row = rc;
+  out.col = cc;
+  return DotStatus::found;
+}
+
+bool LaserDotFinder::plausible(const core::RideHeight& ride) const {
+  return ride.has_height && ride.height_mm >= lasers_.min_height_mm && ride.height_mm <= lasers_.max_height_mm &&
+         std::abs(ride.pitch_deg) <= thresholds_.max_tilt_deg && std::abs(ride.roll_deg) <= thresholds_.max_tilt_deg;
 }
 
 LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
   LaserDotResult out;
   if (gray.type() != CV_8UC1 || gray.rows != camera_.height_px || gray.cols != camera_.width_px) return out;
-  for (std::size_t k = 0; k < lasers_.count; ++k) {
-    find_one(gray, k, out.dots[k]);
+  for (std::size_t k = 0; k < lasers_.count; ++k) find_one(gray, k, out.dots[k]);
+  if (lasers_.count == 3) resolve(out);
+  for (std::size_t k = 0; k < lasers_.count; ++k)
     if (out.dots[k].found) ++out.found;
+  return out;
+}
+
+void LaserDotFinder::resolve(LaserDotResult& out) const {
+  // Each dot: found (one choice), contested with two measured candidates
+  // (two choices), else no plane. A plane outside the searched heights, or
+  // tilted beyond max_tilt_deg, is not the ground; a contested dot is
+  // resolved when only one of its candidates gives a plausible plane (a
+  // rival elsewhere on the track moves the plane by millimetres and
+  // degrees), and left unfound when both do.
+  std::array<std::size_t, 3> choices{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const LaserDot& d = out.dots[k];
+    if (d.found) choices[k] = 1;
+    else if (d.status == DotStatus::contested && d.alternatives == 2) choices[k] = 2;
+    else return;
   }
-  if (lasers_.count != 3 || out.found != 3) return out;
-  const core::RideHeight ride =
-      ground_from_points(out.dots[0].ground_mm, out.dots[1].ground_mm, out.dots[2].ground_mm, camera_.mount_yaw_deg);
-  // A plane outside what the finder searched, or tilted beyond any car's
-  // attitude, is not the ground: no height.
-  if (!ride.has_height || ride.height_mm < lasers_.min_height_mm || ride.height_mm > lasers_.max_height_mm ||
-      std::abs(ride.pitch_deg) > thresholds_.max_tilt_deg ||
-      std::abs(ride.roll_deg) > thresholds_.max_tilt_deg) {
-    return out;
+  auto point = [&](std::size_t k, std::size_t c) -> const core::Vec3& {
+    return out.dots[k].found ? out.dots[k].ground_mm : out.dots[k].candidates[c].ground_mm;
+  };
+  std::size_t plausible_count = 0;
+  std::array<std::size_t, 3> pick{};
+  core::RideHeight ride;
+  for (std::size_t a = 0; a < choices[0]; ++a)
+    for (std::size_t b = 0; b < choices[1]; ++b)
+      for (std::size_t c = 0; c < choices[2]; ++c) {
+        const core::RideHeight r = ground_from_points(point(0, a), point(1, b), point(2, c), camera_.mount_yaw_deg);
+        if (!plausible(r)) continue;
+        ++plausible_count;
+        pick = {a, b, c};
+        ride = r;
+      }
+  if (plausible_count != 1) return;
+  for (std::size_t k = 0; k < 3; ++k) {
+    LaserDot& d = out.dots[k];
+    if (d.found) continue;
+    const Candidate& cand = d.candidates[pick[k]];
+    d.found = true;
+    d.status = DotStatus::found;
+    d.row = cand.row;
+    d.col = cand.col;
+    d.ground_mm = cand.ground_mm;
   }
   out.ride = ride;
-  return out;
 }
 
 void LaserDotFinder::mask(const LaserDotResult& result, cv::Mat& gray) const {

@@ -25,6 +25,13 @@ namespace gvs::dsp {
 /// Why a dot was not found (or `found`).
 enum class DotStatus : std::uint8_t { found, faint, contested, off_track, at_edge, no_track };
 
+/// A measured position of a dot (or of a rival as bright).
+struct Candidate {
+  double row = 0.0;
+  double col = 0.0;
+  core::Vec3 ground_mm;  ///< triangulated point, head axes
+};
+
 struct LaserDot {
   bool found = false;
   DotStatus status = DotStatus::no_track;
@@ -39,12 +46,15 @@ struct LaserDot {
   double mask_row = 0.0, mask_col = 0.0, mask_background_dn = 0.0;
   bool rival = false;
   double rival_row = 0.0, rival_col = 0.0, rival_background_dn = 0.0;
+  /// Contested: the best and its rival, both measured (the plane decides).
+  std::array<Candidate, 2> candidates{};
+  std::size_t alternatives = 0;
 };
 
 struct LaserDotResult {
   std::array<LaserDot, core::LaserGeometry::kMaxBeams> dots{};
   std::size_t found = 0;
-  core::RideHeight ride;  ///< has_height / has_tilt only with every dot found
+  core::RideHeight ride;  ///< has_height / has_tilt only with every dot found and a plausible plane
 };
 
 class LaserDotFinder {
@@ -66,15 +76,16 @@ class LaserDotFinder {
   struct Thresholds {
     /// Its response stands this many robust sigmas (1.4826 MAD of the
     /// responses along the track) above the track ...
-    double min_sigmas = 5.0;
+    double min_sigmas = 4.0;
     /// ... and at least this bright over the ground around it, DN ...
     double min_contrast_dn = 12.0;
     /// ... and no rival elsewhere on the track reaches this fraction of it.
     double max_rival_fraction = 0.75;
     /// A centroid further than this from the track is not the dot, px.
     double max_off_track_px = 1.5;
-    /// A plane tilted more than this is not the ground (a wrong dot), deg.
-    double max_tilt_deg = 4.0;
+    /// A plane tilted more than this is not the ground (a wrong dot), deg:
+    /// a Formula Student car pitches and rolls by up to about 2 deg.
+    double max_tilt_deg = 3.0;
   };
   [[nodiscard]] const Thresholds& thresholds() const { return thresholds_; }
   void set_thresholds(const Thresholds& t) { thresholds_ = t; }
@@ -92,6 +103,9 @@ class LaserDotFinder {
     std::vector<Offset> inner, side, window;  ///< the spot, the ring around it, the centroid's window
   };
   void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
+  DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
+  void resolve(LaserDotResult& out) const;
+  [[nodiscard]] bool plausible(const core::RideHeight& ride) const;
   double response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const;
 
   core::CameraGeometry camera_;
