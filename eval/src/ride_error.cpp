@@ -114,11 +114,14 @@ RideReport evaluate_ride(const std::vector<drivers::TruthRecord>& truth, const s
       ++rep.with_height;
       dh.push_back(m.height_mm - t.height_mm.value_or(nominal_mm));
     }
+    bool wrong = m.has_height && std::abs(m.height_mm - t.height_mm.value_or(nominal_mm)) > RideReport::kWrongHeightMm;
     if (m.has_tilt) {
       ++rep.with_tilt;
       dp.push_back(m.pitch_deg - t.pitch_deg.value_or(0.0));
       dr.push_back(m.roll_deg - t.roll_deg.value_or(0.0));
+      wrong = wrong || std::abs(dp.back()) > RideReport::kWrongTiltDeg || std::abs(dr.back()) > RideReport::kWrongTiltDeg;
     }
+    if (wrong) ++rep.wrong;
   }
   rep.height_mm = error_stats(dh);
   rep.pitch_deg = error_stats(dp);
@@ -132,6 +135,8 @@ std::string format_ride_table(const RideReport& r) {
   std::string s = "\nRide height from the laser dots (measured - truth):\n";
   s += fmt::format("  frames {}, with height {} ({:.2f} %), with pitch and roll {}\n", r.frames, r.with_height,
                    100.0 * r.coverage(), r.with_tilt);
+  s += fmt::format("  wrong (off by more than {} mm or {} deg): {} frames\n", RideReport::kWrongHeightMm,
+                   RideReport::kWrongTiltDeg, r.wrong);
   s += fmt::format("  {:<10} {:>10} {:>10} {:>10}\n", "", "mean", "RMS", "max |e|");
   s += fmt::format("  {:<10} {:>10.4f} {:>10.4f} {:>10.4f}\n", "height mm", r.height_mm.mean, r.height_mm.rms,
                    r.height_mm.max_abs);

@@ -51,6 +51,11 @@ struct RideReport {
   ErrorStats height_mm;  ///< measured - truth
   ErrorStats pitch_deg;
   ErrorStats roll_deg;
+  /// Measured frames off by more than kWrongHeightMm or kWrongTiltDeg:
+  /// wrong values, not noise (the targets are 0.05 mm and 0.05 deg RMS).
+  std::size_t wrong = 0;
+  static constexpr double kWrongHeightMm = 0.15;
+  static constexpr double kWrongTiltDeg = 0.5;
   /// Speed error (%) of moving frames whose speed was scaled by the dots,
   /// and of those left at the nominal scale (dots not found).
   ErrorStats speed_pct_dots;
