@@ -7,6 +7,8 @@
 // frames are what the estimator meets on the car), then fed to a fresh
 // estimator round and round with the clock running on. The label names the
 // method the estimator used on the last frame, so the path measured is shown.
+// BM_LaserDots: finding and masking the laser dots on the same kinds of
+// frame rendered with the design's dots.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
@@ -18,6 +20,7 @@
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/dsp/exposure_control.hpp"
 #include "gvs/dsp/gvs_estimator.hpp"
+#include "gvs/dsp/laser_dots.hpp"
 
 namespace {
 
@@ -43,9 +46,10 @@ constexpr FrameKind kKinds[] = {
 
 constexpr int kFrames = 60;
 
-std::vector<dsp::FrameView> render(const FrameKind& kind) {
+std::vector<dsp::FrameView> render(const FrameKind& kind, bool lasers = false) {
   drivers::SimulatorConfig cfg;
   cfg.seconds = 1.5;
+  if (lasers) cfg.lasers = core::design_laser_geometry(cfg.camera, cfg.camera_height_mm);
   drivers::Simulator sim(cfg, drivers::sim::constant_motion_scenario(kind.vx_mps, kind.vy_mps, 0.0, 1.5));
   dsp::EstimatorConfig ec;
   ec.method = "gvs";
@@ -76,6 +80,35 @@ const std::vector<dsp::FrameView>& frames_of(const FrameKind& kind) {
   return it->second;
 }
 
+const std::vector<dsp::FrameView>& laser_frames_of(const FrameKind& kind) {
+  static std::map<std::string, std::vector<dsp::FrameView>> cache;
+  auto it = cache.find(kind.name);
+  if (it == cache.end()) it = cache.emplace(kind.name, render(kind, /*lasers=*/true)).first;
+  return it->second;
+}
+
+/// What the laser dots add per frame in dsp::FrameProcessor: finding them
+/// and masking them in a copy of the frame (the same kinds of frame, the
+/// design's three dots lit; docs/performance.md). The label is the share of
+/// frames with a height.
+void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
+  const std::vector<dsp::FrameView>& frames = laser_frames_of(kind);
+  const core::CameraGeometry camera;
+  dsp::LaserDotFinder finder(camera, 60.0, core::design_laser_geometry(camera, 60.0));
+  cv::Mat masked = frames.front().gray.clone();
+  std::int64_t n = 0, with_height = 0;
+  for (auto _ : state) {
+    const cv::Mat& gray = frames[static_cast<std::size_t>(n) % frames.size()].gray;
+    const dsp::LaserDotResult r = finder.find(gray);
+    gray.copyTo(masked);
+    finder.mask(r, masked);
+    benchmark::DoNotOptimize(masked.data);
+    with_height += r.ride.has_height ? 1 : 0;
+    ++n;
+  }
+  state.counters["height_frac"] = n ? static_cast<double>(with_height) / static_cast<double>(n) : 0.0;
+}
+
 void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* method) {
   const std::vector<dsp::FrameView>& frames = frames_of(kind);
   dsp::EstimatorConfig cfg;
@@ -103,6 +136,8 @@ void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* me
 
 void register_all() {
   for (const FrameKind& kind : kKinds) {
+    const std::string dots = std::string("BM_LaserDots/") + kind.name;
+    benchmark::RegisterBenchmark(dots.c_str(), BM_LaserDots, kind)->Unit(benchmark::kMillisecond);
     for (const char* method : {"gvs", "thesis", "thesis-orb", "thesis-fft", "thesis-laplacian"}) {
       const std::string name = std::string("BM_Estimator/") + kind.name + "/" + method;
       benchmark::RegisterBenchmark(name.c_str(), BM_Estimator, kind, method)->Unit(benchmark::kMillisecond);
