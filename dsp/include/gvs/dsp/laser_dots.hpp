@@ -3,8 +3,12 @@
 // beam: wherever the ground is, the dot is on it), its centroid measured to
 // a fraction of a pixel, triangulated, and three dots give the ground plane
 // (gvs/dsp/ground_plane.hpp). A dot that is not clearly there (off the
-// frame, under dirt, on a dark patch, or with a rival as bright) is not
-// found, and without all three there is no height: never a wrong value.
+// frame, under dirt, on a dark patch) is not found; one with a rival as
+// bright is found only if just one of the two makes a plausible ground
+// plane with the other dots; without all three there is no height. Three
+// points always make a plane, so a bright grain taken for a dot whose
+// plane is still plausible gives a wrong height (docs/estimator.md,
+// "Wrong dots"); a fourth beam would expose it.
 //
 // Pure: no I/O, threads or clocks; every buffer is made in the constructor.
 #pragma once
