@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "csv_line.hpp"
+#include "laser_json.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/png_file.hpp"
 
@@ -78,6 +79,7 @@ CameraInfo read_camera_json(const fs::path& file) {
     cam.height_mm = number("height_mm");
     if (!(*cam.height_mm > 0.0) || *cam.height_mm > 100000.0) fail(file, "key 'height_mm' must be in (0, 100000] mm");
   }
+  if (j.contains("lasers")) cam.lasers = detail::laser_geometry_from_json(j.at("lasers"), file);
   return cam;
 }
 

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "laser_json.hpp"
+
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/png_file.hpp"
 
@@ -61,6 +63,7 @@ DatasetWriter::DatasetWriter(const fs::path& folder, const CameraInfo& camera, b
   j["description"] = camera.description;
   if (!camera.ground.empty()) j["ground"] = camera.ground;
   if (camera.height_mm) j["height_mm"] = *camera.height_mm;
+  if (camera.lasers.enabled()) j["lasers"] = detail::laser_geometry_json(camera.lasers);
   std::ofstream cam = open_for_writing(folder / "camera.json");
   cam << j.dump(2) << '\n';
 

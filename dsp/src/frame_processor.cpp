@@ -2,10 +2,39 @@
 
 #include <cmath>
 
+#include "gvs/core/geometry.hpp"
+#include "gvs/dsp/ground_plane.hpp"
+
 namespace gvs::dsp {
 
 FrameProcessor::FrameProcessor(const FrameProcessorConfig& config)
-    : config_(config), estimator_(make_estimator(config.estimator)) {}
+    : config_(config), estimator_(make_estimator(config.estimator)) {
+  if (config.lasers.enabled()) {
+    const core::CameraGeometry& cam = config.estimator.camera;
+    finder_ = std::make_unique<LaserDotFinder>(cam, config.nominal_height_mm, config.lasers);
+    masked_.create(cam.height_px, cam.width_px, CV_8UC1);
+  }
+}
+
+namespace {
+
+/// Scales the estimate's velocity with the measured ground
+/// (gvs/dsp/ground_plane.hpp, point 3) and says so.
+void apply_ride(const core::RideHeight& ride, double nominal_height_mm, bool correct, core::VelocityEstimate& e) {
+  e.ride = ride;
+  if (!ride.has_height || !correct) return;
+  e.scale_source = core::ScaleSource::laser_dots;
+  if (!e.has_speed) return;
+  if (e.has_velocity_xy()) {
+    correct_velocity(ride, nominal_height_mm, e.vx_mps, e.vy_mps);
+    e.speed_mps = std::hypot(e.vx_mps, e.vy_mps);
+    if (e.has_direction) e.direction_deg = core::direction_deg({e.vx_mps, e.vy_mps});
+  } else {
+    e.speed_mps *= ride.height_mm / nominal_height_mm;
+  }
+}
+
+}  // namespace
 
 void FrameProcessor::reset() noexcept {
   estimator_->reset();
@@ -29,13 +58,22 @@ core::VelocityEstimate FrameProcessor::process(const core::FrameView& frame) {
       !std::isfinite(exposure_us)) {
     return reject(frame, RejectReason::bad_exposure);
   }
+  // The dots move with the height, not with the ground: find them, then
+  // hide them from the estimator.
+  core::FrameView view = frame;
+  if (finder_) {
+    dots_ = finder_->find(frame.gray);
+    frame.gray.copyTo(masked_);
+    finder_->mask(dots_, masked_);
+    view.gray = masked_;
+  }
   if (have_previous_) {
     if (frame.t_ns <= previous_t_ns_) {
       // Time went backwards: the pair history is meaningless. Start again
       // from this frame, but do not measure it against the old one.
       estimator_->reset();
       previous_t_ns_ = frame.t_ns;
-      (void)estimator_->estimate(frame);
+      (void)estimator_->estimate(view);
       return reject(frame, RejectReason::time_backwards);
     }
     if (static_cast<double>(frame.t_ns - previous_t_ns_) * 1e-9 > config_.max_gap_s) {
@@ -45,7 +83,9 @@ core::VelocityEstimate FrameProcessor::process(const core::FrameView& frame) {
   }
   have_previous_ = true;
   previous_t_ns_ = frame.t_ns;
-  return estimator_->estimate(frame);
+  core::VelocityEstimate e = estimator_->estimate(view);
+  if (finder_) apply_ride(dots_.ride, config_.nominal_height_mm, config_.correct_scale, e);
+  return e;
 }
 
 }  // namespace gvs::dsp

@@ -16,6 +16,10 @@ ReplayStats replay_dataset(const drivers::DatasetReader& dataset, dsp::FrameProc
                            const std::function<void(const core::VelocityEstimate&)>& sink,
                            const ReplayOptions& options) {
   config.estimator.camera = dataset.camera().geometry;
+  // The dataset's lasers, unless the caller turned them off (count 0 and
+  // use_dataset_lasers false) or brought its own.
+  if (options.use_dataset_lasers && !config.lasers.enabled()) config.lasers = dataset.camera().lasers;
+  config.nominal_height_mm = dataset.camera().height_mm.value_or(60.0);
   dsp::FrameProcessor processor(config);
   ReplayStats stats;
   cv::Mat as_float;
@@ -43,6 +47,7 @@ ReplayStats replay_dataset(const drivers::DatasetReader& dataset, dsp::FrameProc
     ++stats.frames;
     if (e.quality > 0.0) ++stats.with_estimate;
     sink(e);
+    if (options.dots_sink) options.dots_sink(e, processor.last_dots());
   }
   return stats;
 }

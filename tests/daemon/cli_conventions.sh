@@ -65,7 +65,7 @@ for cmd in "" foo; do
   [[ -z $cmd ]] || grep -q "unknown command 'foo'" <<<"$out" || fail "'gvs foo' does not name it: $out"
   for c in $commands; do grep -q "\b$c\b" <<<"$out" || fail "'gvs $cmd' does not list $c: $out"; done
 done
-expect 2 "unknown command 'bar'.*scale, yaw" "$gvs" calibrate bar
+expect 2 "unknown command 'bar'.*scale, height, yaw" "$gvs" calibrate bar
 
 # 5. Help: every scenario explained, every method listed (the lists are the tool's own).
 sim_help=$("$gvs" sim --help)

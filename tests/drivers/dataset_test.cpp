@@ -226,6 +226,42 @@ TEST(Dataset, ReadsThirdPartyDatasetWithColourPngGapsAndPulses) {
   EXPECT_NEAR(colour_as_gray.at<unsigned char>(0, 0), 0.299 * 30 + 0.587 * 200 + 0.114 * 10, 1.0);
 }
 
+TEST(Dataset, LaserGeometryRoundTripsAndOldCameraJsonHasNone) {
+  // camera.json's optional "lasers" (docs/simulator.md, "Laser dots"): written
+  // only when there are lasers, read back exactly; a camera.json without it
+  // (every dataset before the lasers) reads with none.
+  const fs::path dir = handmade_dataset("lasers");
+  EXPECT_FALSE(DatasetReader(dir).camera().lasers.enabled());
+  const fs::path written = fresh_dir("lasers-written");
+  CameraInfo cam;
+  cam.geometry = {512, 384, 0.1, 0.0};
+  cam.height_mm = 60.0;
+  cam.lasers = gvs::core::design_laser_geometry(cam.geometry, 60.0);
+  cam.lasers.beams[2].tilt_deg = 40.5;
+  cam.lasers.spot_sigma_mm = 0.13;
+  {
+    DatasetWriter w(written, cam, false);
+    FrameRecord r;
+    r.exposure.exposure_us = 100.0;
+    w.write_frame(noise_image(512, 384, 4), r);
+  }
+  const gvs::core::LaserGeometry back = DatasetReader(written).camera().lasers;
+  ASSERT_EQ(back.count, 3U);
+  EXPECT_DOUBLE_EQ(back.spot_sigma_mm, 0.13);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(back.beams[k].x_mm, cam.lasers.beams[k].x_mm);
+    EXPECT_DOUBLE_EQ(back.beams[k].y_mm, cam.lasers.beams[k].y_mm);
+    EXPECT_DOUBLE_EQ(back.beams[k].z_mm, cam.lasers.beams[k].z_mm);
+    EXPECT_DOUBLE_EQ(back.beams[k].azimuth_deg, cam.lasers.beams[k].azimuth_deg);
+    EXPECT_DOUBLE_EQ(back.beams[k].tilt_deg, cam.lasers.beams[k].tilt_deg);
+  }
+  // A beam without its tilt: named.
+  write_text(written / "camera.json",
+             R"({"format": "gvs-dataset/1", "width": 512, "height": 384, "mm_per_px": 0.1,)"
+             R"( "lasers": {"beams": [{"x_mm": 1, "y_mm": 2, "z_mm": -20, "azimuth_deg": 90}]}})");
+  expect_error(written, "camera.json: key 'lasers': a beam lacks 'tilt_deg'");
+}
+
 TEST(Dataset, MissingCameraKeyIsNamed) {
   const fs::path dir = handmade_dataset("nokey");
   write_text(dir / "camera.json", R"({"format": "gvs-dataset/1", "width": 64, "height": 48})");

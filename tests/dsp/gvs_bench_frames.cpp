@@ -12,10 +12,11 @@ namespace gvs::bench {
 
 namespace {
 
-std::vector<dsp::FrameView> render(const FrameKind& kind) {
+std::vector<dsp::FrameView> render(const FrameKind& kind, bool lasers) {
   drivers::SimulatorConfig cfg;
   cfg.seconds = 1.5;
   cfg.light = kind.light;
+  if (lasers) cfg.lasers = core::design_laser_geometry(cfg.camera, cfg.camera_height_mm);
   drivers::Simulator sim(cfg, drivers::sim::constant_motion_scenario(kind.vx_mps, kind.vy_mps, 0.0, 1.5));
   dsp::EstimatorConfig ec;
   ec.method = "gvs";
@@ -44,7 +45,14 @@ std::vector<dsp::FrameView> render(const FrameKind& kind) {
 const std::vector<dsp::FrameView>& frames_of(const FrameKind& kind) {
   static std::map<std::string, std::vector<dsp::FrameView>> cache;
   auto it = cache.find(kind.name);
-  if (it == cache.end()) it = cache.emplace(kind.name, render(kind)).first;
+  if (it == cache.end()) it = cache.emplace(kind.name, render(kind, /*lasers=*/false)).first;
+  return it->second;
+}
+
+const std::vector<dsp::FrameView>& laser_frames_of(const FrameKind& kind) {
+  static std::map<std::string, std::vector<dsp::FrameView>> cache;
+  auto it = cache.find(kind.name);
+  if (it == cache.end()) it = cache.emplace(kind.name, render(kind, /*lasers=*/true)).first;
   return it->second;
 }
 

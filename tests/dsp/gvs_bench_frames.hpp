@@ -42,6 +42,8 @@ inline constexpr int kFrames = 60;
 /// constant velocity, with the exposure the gvs closed loop chose; rendered
 /// on the first call and kept.
 const std::vector<dsp::FrameView>& frames_of(const FrameKind& kind);
+/// The same with the design's three laser dots lit (gvs sim --lasers).
+const std::vector<dsp::FrameView>& laser_frames_of(const FrameKind& kind);
 const FrameKind& kind_named(const char* name);
 
 /// CPU time of the calling thread (what Google Benchmark's "CPU" column counts).

@@ -12,6 +12,8 @@
 // estimator (thread CPU time, like the estimator's), and x_r2c, the
 // estimator's time over it (issue #22's target: at most 3). The per-stage
 // costs are in gvs_stage_bench.cpp (the same program).
+// BM_LaserDots: finding and masking the laser dots on the same kinds of
+// frame rendered with the design's dots.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
@@ -19,12 +21,35 @@
 #include <vector>
 
 #include "gvs/dsp/estimator.hpp"
+#include "gvs/dsp/laser_dots.hpp"
 #include "gvs_bench_frames.hpp"
 
 namespace {
 
 using namespace gvs;
 using bench::FrameKind;
+
+/// What the laser dots add per frame in dsp::FrameProcessor: finding them
+/// and masking them in a copy of the frame (the same kinds of frame, the
+/// design's three dots lit; docs/performance.md). The counter is the share
+/// of frames with a height.
+void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
+  const std::vector<dsp::FrameView>& frames = bench::laser_frames_of(kind);
+  const core::CameraGeometry camera;
+  dsp::LaserDotFinder finder(camera, 60.0, core::design_laser_geometry(camera, 60.0));
+  cv::Mat masked = frames.front().gray.clone();
+  std::int64_t n = 0, with_height = 0;
+  for (auto _ : state) {
+    const cv::Mat& gray = frames[static_cast<std::size_t>(n) % frames.size()].gray;
+    const dsp::LaserDotResult r = finder.find(gray);
+    gray.copyTo(masked);
+    finder.mask(r, masked);
+    benchmark::DoNotOptimize(masked.data);
+    with_height += r.ride.has_height ? 1 : 0;
+    ++n;
+  }
+  state.counters["height_frac"] = n ? static_cast<double>(with_height) / static_cast<double>(n) : 0.0;
+}
 
 void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* method) {
   const std::vector<dsp::FrameView>& frames = bench::frames_of(kind);
@@ -60,6 +85,8 @@ void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* me
 
 void register_all() {
   for (const FrameKind& kind : bench::kKinds) {
+    const std::string dots = std::string("BM_LaserDots/") + kind.name;
+    benchmark::RegisterBenchmark(dots.c_str(), BM_LaserDots, kind)->Unit(benchmark::kMillisecond);
     for (const char* method : {"gvs", "thesis", "thesis-orb", "thesis-fft", "thesis-laplacian"}) {
       const std::string name = std::string("BM_Estimator/") + kind.name + "/" + method;
       benchmark::RegisterBenchmark(name.c_str(), BM_Estimator, kind, method)->Unit(benchmark::kMillisecond);

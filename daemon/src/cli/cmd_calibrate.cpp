@@ -2,12 +2,16 @@
 // gvsd configuration ([camera] mm_per_px, mount_yaw_deg).
 //   gvs calibrate scale FRAME.png --inner-corners 9x6 --square-mm 10 [--config gvsd.toml]
 //   gvs calibrate yaw DATASET [--min-speed-kmh 5] [--method gvs] [--config gvsd.toml]
+//   gvs calibrate height --at 50:DATASET --at 60:DATASET ... [--out lasers.json]
 // `scale`: a frame of a printed checkerboard lying flat under the sensor.
 // `yaw`: a recording (gvs record, or any gvs-dataset) of driving straight
 // ahead; its camera.json's mount_yaw_deg is what the estimates were made with.
+// `height`: recordings of the head on spacer blocks; the laser dots' beams.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -23,6 +27,7 @@
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/png_file.hpp"
 #include "gvs/dsp/calibration.hpp"
+#include "gvs/dsp/laser_calibration.hpp"
 
 namespace gvs::cli {
 
@@ -34,6 +39,12 @@ struct ScaleOptions {
   double square_mm = 10.0;
   std::string config;
   bool create_config = false;
+};
+
+struct HeightOptions {
+  std::vector<std::string> at;  ///< HEIGHT_MM:DATASET
+  double exit_z_mm = -20.0;
+  std::string out;
 };
 
 struct YawOptions {
@@ -117,6 +128,55 @@ void run_yaw(const YawOptions& o) {
   }
 }
 
+void run_height(const HeightOptions& o) {
+  if (o.at.size() < 2) throw std::runtime_error("--at: give at least two heights, e.g. --at 50:spacer50 --at 70:spacer70");
+  std::vector<dsp::HeightObservation> observations;
+  core::CameraGeometry camera;
+  double nominal_mm = 60.0;
+  core::LaserGeometry prior;
+  for (std::size_t i = 0; i < o.at.size(); ++i) {
+    const std::string& spec = o.at[i];
+    const auto colon = spec.find(':');
+    char* end = nullptr;
+    const double h = colon == std::string::npos ? 0.0 : std::strtod(spec.c_str(), &end);
+    if (colon == std::string::npos || end != spec.c_str() + colon || !(h > 0.0))
+      throw std::runtime_error("--at '" + spec + "': give HEIGHT_MM:DATASET, e.g. 55:spacer55");
+    const drivers::DatasetReader dataset(spec.substr(colon + 1));
+    if (i == 0) {
+      camera = dataset.camera().geometry;
+      nominal_mm = dataset.camera().height_mm.value_or(60.0);
+      prior = dataset.camera().lasers.enabled() ? dataset.camera().lasers
+                                                : core::design_laser_geometry(camera, nominal_mm);
+    }
+    // Every frame of the height: the spots of each, as observations of that height.
+    const double sigma_px = std::hypot(prior.spot_sigma_mm / camera.mm_per_px, 0.5) * 1.2;
+    for (std::size_t f = 0; f < dataset.frames().size(); ++f) {
+      observations.push_back({h, dsp::find_bright_spots(dataset.load_gray(f), sigma_px, prior.count + 2)});
+    }
+  }
+  const auto fit = dsp::fit_laser_geometry(observations, camera, nominal_mm, prior, o.exit_z_mm);
+  if (!fit) {
+    throw std::runtime_error("not every dot was seen at two heights or more; are the lasers on, the plate flat and "
+                             "the dots within 60 px of where camera.json (or the design) puts them?");
+  }
+  std::printf("%zu frames at %zu heights; ground points off their beams by %.4f mm RMS\n", observations.size(),
+              o.at.size(), fit->rms_residual_mm);
+  std::printf("beam    x_mm     y_mm     z_mm  azimuth_deg  tilt_deg\n");
+  for (std::size_t k = 0; k < fit->lasers.count; ++k) {
+    const core::LaserBeam& b = fit->lasers.beams[k];
+    std::printf("%4zu %8.3f %8.3f %8.2f %12.3f %9.3f\n", k, b.x_mm, b.y_mm, b.z_mm, b.azimuth_deg, b.tilt_deg);
+  }
+  const std::string json = drivers::laser_geometry_json_text(fit->lasers);
+  if (!o.out.empty()) {
+    std::ofstream out(o.out);
+    if (!out) throw std::runtime_error(o.out + ": cannot write");
+    out << json << '\n';
+    std::printf("wrote the \"lasers\" object for camera.json to %s\n", o.out.c_str());
+  } else {
+    std::printf("camera.json \"lasers\": %s\n", json.c_str());
+  }
+}
+
 }  // namespace
 
 void register_calibrate(CLI::App& app) {
@@ -132,6 +192,15 @@ void register_calibrate(CLI::App& app) {
   s->add_option("--config", scale->config, "gvsd configuration to write [camera] mm_per_px into (must exist)");
   s->add_flag("--create-config", scale->create_config, "Create the --config file if it does not exist");
   s->callback([scale] { run_scale(*scale); });
+
+  auto height = std::make_shared<HeightOptions>();
+  CLI::App* h = cmd->add_subcommand(
+      "height", "Laser dots' geometry from frames at known heights (the head on spacer blocks over a flat plate)");
+  h->add_option("--at", height->at, "HEIGHT_MM:DATASET, one per spacer (at least two)")->required();
+  h->add_option("--exit-z-mm", height->exit_z_mm, "Height of the beams' exit window relative to the optical centre, mm")
+      ->capture_default_str();
+  h->add_option("--out", height->out, "Write the \"lasers\" object (camera.json) to this file");
+  h->callback([height] { run_height(*height); });
 
   auto yaw = std::make_shared<YawOptions>();
   CLI::App* y = cmd->add_subcommand("yaw", "mount_yaw_deg from a recording of driving straight ahead");

@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "gvs/eval/accuracy.hpp"
 #include "gvs/eval/height_error.hpp"
+#include "gvs/eval/ride_error.hpp"
 #include "gvs/eval/speed_gaps.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
@@ -29,6 +30,7 @@ struct EvalOptions {
   std::string plot;
   std::string json;
   std::string title;
+  std::string ride;
 };
 
 /// Where gvs_plot.py is: $GVS_PLOT_SCRIPT, the installed copy beside this
@@ -93,6 +95,12 @@ void run_eval(const EvalOptions& o) {
                                                          dataset.camera().height_mm.value_or(60.0))) {
     std::printf("%s", eval::format_height_table(*height).c_str());
   }
+  if (!o.ride.empty()) {
+    const auto rides = eval::read_ride_csv(o.ride);
+    std::printf("%s", eval::format_ride_table(eval::evaluate_ride(dataset.truth(), rides, estimates,
+                                                                  dataset.camera().height_mm.value_or(60.0)))
+                          .c_str());
+  }
   const std::string speed_gaps = eval::format_speed_gaps(eval::find_speed_gaps(dataset, estimates));
   std::printf("%s", speed_gaps.c_str());
   if (!o.json.empty()) {
@@ -126,6 +134,8 @@ void register_eval(CLI::App& app) {
   cmd->add_option("estimates", opts->estimates, "Estimates CSV (from gvs replay)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--plot", opts->plot, "Draw direction, speed and yaw rate against the truth, their error histograms and why speeds are missing into this PNG");
   cmd->add_option("--title", opts->title, "Plot title (default: the dataset folder's name)");
+  cmd->add_option("--ride", opts->ride, "Ride-height CSV (gvs replay --ride): height, pitch and roll error against the truth")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--json", opts->json, "Also write the figures as JSON");
   cmd->callback([opts] { run_eval(*opts); });
 }

@@ -12,6 +12,7 @@
 #include "usage.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/eval/replay.hpp"
+#include "gvs/eval/ride_error.hpp"
 #include "gvs/eval/speed_gaps.hpp"
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/estimates_csv.hpp"
@@ -26,6 +27,9 @@ struct ReplayCliOptions {
   std::string config_file;
   std::string method;
   bool timing = false;
+  std::string ride_out;
+  bool no_lasers = false;
+  bool no_scale_correction = false;
 };
 
 void run_replay(const ReplayCliOptions& o) {
@@ -41,6 +45,17 @@ void run_replay(const ReplayCliOptions& o) {
   drivers::EstimatesCsvWriter writer(o.out);
   eval::ReplayOptions options;
   options.time_reference_dft = o.timing;
+  options.use_dataset_lasers = !o.no_lasers;
+  config.correct_scale = !o.no_scale_correction;
+  // The estimates CSV's columns are fixed (shared/spec/dataset-format.md):
+  // the measured ride height goes to a file of its own.
+  std::unique_ptr<eval::RideCsvWriter> ride;
+  if (!o.ride_out.empty()) {
+    ride = std::make_unique<eval::RideCsvWriter>(o.ride_out);
+    options.dots_sink = [&ride](const core::VelocityEstimate& e, const dsp::LaserDotResult& dots) {
+      ride->write(e, static_cast<int>(dots.found));
+    };
+  }
   std::size_t done = 0;
   std::size_t with_speed = 0;
   std::vector<drivers::EstimateRow> rows;  // for saying why speeds are missing
@@ -56,6 +71,7 @@ void run_replay(const ReplayCliOptions& o) {
       options);
   progress.reset();
   writer.close();
+  if (ride) ride->close();
   std::printf("replayed %zu frames with '%s': %zu with an estimate, %zu with a speed; wrote %s\n", stats.frames,
               config.estimator.method.c_str(), stats.with_estimate, with_speed, o.out.c_str());
   if (dataset.has_truth()) std::printf("%s", eval::format_speed_gaps(eval::find_speed_gaps(dataset, rows)).c_str());
@@ -79,6 +95,12 @@ void register_replay(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--method", opts->method, "Estimator (overrides the configuration; default gvs): " + method_list())
       ->check(method_check());
+  cmd->add_option("--ride", opts->ride_out,
+                  "Also write the ride height measured by the laser dots (height_mm, pitch_deg, roll_deg) to this "
+                  "CSV (the estimates CSV has no room for it)");
+  cmd->add_flag("--no-lasers", opts->no_lasers, "Ignore camera.json's laser dots (no masking, no height)");
+  cmd->add_flag("--no-scale-correction", opts->no_scale_correction,
+                "Find and mask the dots, but keep the speed at the nominal scale (to measure the correction)");
   cmd->add_flag("--timing", opts->timing, "Also time PNG decoding and one forward DFT per frame, and compare");
   cmd->callback([opts] { run_replay(*opts); });
 }

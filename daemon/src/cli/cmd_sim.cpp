@@ -29,6 +29,7 @@ struct SimOptions {
   std::string exposure_mode = "fixed";
   std::string loop_method = "gvs";
   bool force = false;
+  bool lasers = false;
 };
 
 namespace fs = std::filesystem;
@@ -80,6 +81,7 @@ void run_sim(const SimOptions& o) {
   static const std::map<std::string, drivers::LightLevel> lights = {
       {"normal", drivers::LightLevel::normal}, {"under", drivers::LightLevel::under}, {"over", drivers::LightLevel::over}};
   config.light = lights.at(o.light);
+  if (o.lasers) config.lasers = core::design_laser_geometry(config.camera, config.camera_height_mm);
 
   check_out_folder(o);
   drivers::Simulator sim(config);
@@ -87,9 +89,11 @@ void run_sim(const SimOptions& o) {
   camera.geometry = config.camera;
   camera.ground = sim.config().ground;
   camera.height_mm = config.camera_height_mm;
+  camera.lasers = config.lasers;
   camera.description = "gvs sim --scenario " + config.scenario + " --seed " + std::to_string(config.seed);
   if (config.body != "flat") camera.description += " --body " + config.body;
   if (camera.ground != "procedural") camera.description += " --ground " + camera.ground;
+  if (o.lasers) camera.description += " --lasers";
   install_stop_signals();  // before the staging folder exists, so Ctrl-C always cleans it up
   StagingFolder staging(o.out);
   drivers::DatasetWriter writer(staging.path(), camera, /*with_truth=*/true,
@@ -105,6 +109,8 @@ void run_sim(const SimOptions& o) {
     dsp::FrameProcessorConfig pc;
     pc.estimator.method = o.loop_method;
     pc.estimator.camera = config.camera;
+    pc.lasers = config.lasers;  // the dots masked out of what the loop's estimator sees
+    pc.nominal_height_mm = config.camera_height_mm;
     loop = std::make_unique<dsp::FrameProcessor>(pc);
     limits = dsp::exposure_limits_for(config.camera, config.fps);
     limits.max_exposure_us = config.exposure_us;
@@ -203,6 +209,13 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--ground", opts->config.ground,
                   "Ground: procedural (the simulated asphalt) or photo:FILE[:MM_PER_PIXEL], a seamless square "
                   "grey photo at MM_PER_PIXEL (default 0.2) laid in randomised, blended tiles")
+      ->capture_default_str();
+  cmd->add_flag("--lasers", opts->lasers,
+                "Laser dots: the design's three beams at 45 deg (docs/hardware.md, \"Laser dots\"), lit with the "
+                "LED; their geometry goes into camera.json");
+  cmd->add_option("--laser-brightness", opts->config.laser_peak_relative,
+                  "Laser dots' peak irradiance over the LED ring's")
+      ->check(number_in(0.0, 100.0))
       ->capture_default_str();
   cmd->add_option("--width", opts->config.camera.width_px, "Image width, px")->check(whole_number_in(16, 4096));
   cmd->add_option("--height", opts->config.camera.height_px, "Image height, px")->check(whole_number_in(16, 4096));

@@ -18,6 +18,7 @@
 #include "gvs/core/frame.hpp"
 #include "gvs/core/geometry.hpp"
 #include "hash.hpp"
+#include "laser_dots.hpp"
 #include "photo_ground.hpp"
 #include "sensor.hpp"
 #include "texture_tile.hpp"
@@ -40,6 +41,9 @@ void check_config(const SimulatorConfig& c) {
   if (!(c.camera.mm_per_px > 0.001 && c.camera.mm_per_px < 10.0))
     fail("camera mm_per_px must be in (0.001, 10)");
   if (!std::isfinite(c.camera.mount_yaw_deg)) fail("camera mount_yaw_deg must be finite");
+  if (c.lasers.count > core::LaserGeometry::kMaxBeams) fail("at most 3 lasers");
+  if (c.lasers.enabled() && !(c.laser_peak_relative >= 0.0 && c.laser_speckle_grain_mm > 0.0))
+    fail("laser_peak_relative must be >= 0 and laser_speckle_grain_mm > 0");
   if (!(c.camera_height_mm >= 5.0 && c.camera_height_mm <= 10000.0))
     fail("camera_height_mm must be in [5, 10000], got " + std::to_string(c.camera_height_mm));
 }
@@ -143,6 +147,7 @@ struct Simulator::Impl {
     const sim::SensorModel& m = config.sensor;
     light_intervals(index, p, light);
     renderer.render(rendered_ground(), trajectory, config.camera, config.camera_height_mm, light, reflectance);
+    add_lasers(index);
     // Photons follow the light dose; the gain follows like an auto-gain so the
     // mean stays at the run's level, within [1/r, r] of the run's gain.
     const double dose = light_dose(p);
@@ -190,6 +195,16 @@ struct Simulator::Impl {
     }
   }
 
+  /// The laser dots, lit with the LED (in every pulse); off: nothing changes.
+  void add_lasers(std::int64_t index) {
+    if (!config.lasers.enabled()) return;
+    sim::LaserLight laser;
+    laser.peak_relative = config.laser_peak_relative;
+    laser.speckle_grain_mm = config.laser_speckle_grain_mm;
+    sim::add_laser_dots(config.lasers, laser, trajectory, config.camera, config.camera_height_mm, light,
+                        sim::detail::hash_cell(config.seed, 0x1A5E, index, 0), reflectance, laser_scratch);
+  }
+
   /// Period of the texture: 0 (never repeats) unless periodic_texture asks
   /// for one and its tile fits (at most 4096 samples a side; else the
   /// texture is rendered per frame as for datasets).
@@ -235,6 +250,7 @@ struct Simulator::Impl {
   core::ExposurePlan plan;
   std::vector<sim::LightInterval> light;
   cv::Mat reflectance;
+  cv::Mat laser_scratch;
   std::size_t frames = 0;
   std::int64_t next_index = 0;
   double gain = 1.0;

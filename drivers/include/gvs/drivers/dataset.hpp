@@ -12,6 +12,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "gvs/core/frame.hpp"
+#include "gvs/core/laser_geometry.hpp"
 
 namespace gvs::drivers {
 
@@ -33,6 +34,9 @@ struct CameraInfo {
   /// where mm_per_px holds (key "height_mm", written by the simulator);
   /// empty: not recorded.
   std::optional<double> height_mm;
+  /// The head's laser dots (optional key "lasers"; count 0: none, and the
+  /// key is not written).
+  core::LaserGeometry lasers;
 };
 
 /// One row of frames.csv.
@@ -59,6 +63,9 @@ struct TruthRecord {
   std::optional<double> pitch_deg;  ///< ISO 8855: positive = nose down; empty: level
   std::optional<double> roll_deg;   ///< ISO 8855: positive = right side down; empty: level
 };
+
+/// camera.json's "lasers" object for `lasers`, as JSON text.
+std::string laser_geometry_json_text(const core::LaserGeometry& lasers);
 
 /// Parses the `pulses` column ("0:20|400:20", empty = continuous). Throws
 /// std::invalid_argument with a message saying what is wrong.

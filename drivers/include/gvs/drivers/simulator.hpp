@@ -15,6 +15,7 @@
 #include "gvs/drivers/sim/scenario.hpp"
 #include "gvs/drivers/sim/sensor_model.hpp"
 #include "gvs/core/frame.hpp"
+#include "gvs/core/laser_geometry.hpp"
 
 namespace gvs::drivers {
 
@@ -40,6 +41,12 @@ struct SimulatorConfig {
   /// motion"). Ignored by the constructor taking a custom scenario (which
   /// brings its own Scenario::body).
   std::string body = "flat";
+  /// Laser dots of the sensor head (docs/simulator.md, "Laser dots"); none
+  /// (count 0, the default): frames are exactly those of a head without lasers.
+  core::LaserGeometry lasers;
+  /// Brightness of the dots against the LED ring's light, and their speckle.
+  double laser_peak_relative = 8.0;
+  double laser_speckle_grain_mm = 0.027;  ///< lambda / (2 NA) on the ground
   bool loop = false;           ///< start the scenario again when it ends (daemon)
   std::uint64_t sensor_seed = 7;  ///< fixed-pattern noise of "the" sensor (not the scene)
   sim::SensorModel sensor;        ///< sensor and light numbers (docs/simulator.md)

@@ -10,6 +10,8 @@
 #include "gvs/core/estimate.hpp"
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/core/frame.hpp"
+#include "gvs/core/laser_geometry.hpp"
+#include "gvs/dsp/laser_dots.hpp"
 
 namespace gvs::dsp {
 
@@ -31,6 +33,16 @@ struct FrameProcessorConfig {
   EstimatorConfig estimator;
   double max_exposure_us = 100000.0;  ///< longer is treated as a broken frame
   double max_gap_s = 0.5;             ///< a longer gap resets pair history
+  /// The head's laser dots (none: count 0). With them every frame's dots are
+  /// found, masked out of what the estimator sees, and when all are found
+  /// the estimate carries the ride height and its speed is scaled with it
+  /// (ScaleSource::laser_dots); docs/estimator.md, "Height from the laser dots".
+  core::LaserGeometry lasers;
+  /// Height where camera.mm_per_px holds (camera.json height_mm; 60 mm).
+  double nominal_height_mm = 60.0;
+  /// Find the dots but do not correct the speed (for measuring what the
+  /// correction does; the dots are still masked).
+  bool correct_scale = true;
 };
 
 class FrameProcessor {
@@ -51,10 +63,15 @@ class FrameProcessor {
 
   [[nodiscard]] const FrameRejectCounters& rejects() const { return rejects_; }
   [[nodiscard]] const FrameProcessorConfig& config() const { return config_; }
+  /// The dots of the last processed frame (none without lasers).
+  [[nodiscard]] const LaserDotResult& last_dots() const { return dots_; }
 
  private:
   FrameProcessorConfig config_;
   std::unique_ptr<VelocityEstimator> estimator_;
+  std::unique_ptr<LaserDotFinder> finder_;  ///< with lasers only
+  cv::Mat masked_;                          ///< the frame with the dots masked out
+  LaserDotResult dots_;
   FrameRejectCounters rejects_;
   bool have_previous_ = false;
   std::int64_t previous_t_ns_ = 0;

@@ -21,6 +21,10 @@ struct ReplayStats {
 
 struct ReplayOptions {
   bool time_reference_dft = false;  ///< also time one cv::dft per frame, in the same run
+  /// Find the laser dots of camera.json's "lasers" (if any).
+  bool use_dataset_lasers = true;
+  /// Called after `sink` with each frame's laser dots (if set).
+  std::function<void(const core::VelocityEstimate&, const dsp::LaserDotResult&)> dots_sink;
 };
 
 /// Runs the processor over every frame in `dataset`; `sink` gets each estimate

@@ -1,0 +1,54 @@
+// The ground under the sensor from the laser dots, and the speed's scale
+// from the ground (docs/estimator.md, "Height from the laser dots").
+//
+// 1. Triangulation. A dot seen at pixel (r, c) lies on the camera's line of
+//    sight s d, d = (a, b, -1) (core/laser_geometry.hpp), and on its laser
+//    beam O + t u. Both are known lines; the dot is where they meet. With
+//    noise they miss each other slightly, so take the t that brings them
+//    closest (least squares, two equations in t and s):
+//        t (u.u) - s (u.d) = -O.u
+//        t (u.d) - s (d.d) = -O.d
+//    and the point P = O + t u on the beam.
+// 2. Plane. Three points P1, P2, P3 fix the ground plane: its normal
+//    n = (P2 - P1) x (P3 - P1) (made unit, pointing up); the camera's height
+//    H along its own z axis is where that axis (0, 0, -H) meets the plane:
+//        H = -(n . P1) / n_z.
+//    In vehicle axes (the head turned by the mount yaw) the ground's normal
+//    is the third row of the body's attitude R = Ry(pitch) Rx(roll) (ISO
+//    8855): n = (-sin pitch, cos pitch sin roll, cos pitch cos roll), so
+//        pitch = -asin(n_x),  roll = atan2(n_y, n_z).
+// 3. Scale. The estimators turn image motion into velocity with the
+//    nominal scale s0 (mm per px at the nominal height H0). A ground point
+//    under the image centre moves in the image by d(a', b') (normalised
+//    vehicle-axes image coordinates); on the ground that is
+//        dG = H (A / R_zz) d(a', b'),  A = [[Rzz Rxx - Rxz Rzx, Rzz Rxy - Rxz Rzy],
+//                                        [Rzz Ryx - Ryz Rzx, Rzz Ryy - Ryz Rzy]]
+//    (solve the line of sight for the ground, docs/simulator.md,
+//    "Projection"), while the estimators assumed dG = H0 d(a', b'). So
+//        v = (H / H0) (A / R_zz) v_nominal.
+//    Level: v = (H / H0) v_nominal, the whole of the first-order effect
+//    (5 mm in 60 mm: 8 %). The tilt's part is second order at the centre
+//    (1 / cos 1.5 deg - 1 = 0.03 %).
+#pragma once
+
+#include "gvs/core/laser_geometry.hpp"
+#include "gvs/core/ride_height.hpp"
+
+namespace gvs::dsp {
+
+/// The point of beam `beam` seen along the line of sight `sight` (head
+/// axes). False when the two lines are (nearly) parallel.
+bool triangulate(const core::LaserBeam& beam, core::Vec3 sight, core::Vec3& point_mm);
+
+/// Height at the optical axis and the ground's pitch and roll (vehicle
+/// axes, ISO 8855) from three ground points in head axes. has_height and
+/// has_tilt stay false when the points are (nearly) in a line.
+core::RideHeight ground_from_points(const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
+                                    double mount_yaw_deg);
+
+/// The scale correction of point 3 above: v = (H / H0) (A / R_zz) v_nominal
+/// (vehicle axes, m/s). `ride` must have has_height; without has_tilt the
+/// ground is taken as level.
+void correct_velocity(const core::RideHeight& ride, double nominal_height_mm, double& vx_mps, double& vy_mps);
+
+}  // namespace gvs::dsp

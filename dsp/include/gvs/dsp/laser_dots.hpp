@@ -1,0 +1,123 @@
+// Finding the laser dots in a frame (docs/estimator.md, "Height from the
+// laser dots"): each dot is searched along its track (the image of its
+// beam: wherever the ground is, the dot is on it), its centroid measured to
+// a fraction of a pixel, triangulated, and three dots give the ground plane
+// (gvs/dsp/ground_plane.hpp). A dot that is not clearly there (off the
+// frame, under dirt, on a dark patch) is not found; one with a rival as
+// bright is found only if just one of the two makes a plausible ground
+// plane with the other dots; without all three there is no height. Three
+// points always make a plane, so a bright grain taken for a dot whose
+// plane is still plausible gives a wrong height (docs/estimator.md,
+// "Wrong dots"); a fourth beam would expose it.
+//
+// Pure: no I/O, threads or clocks; every buffer is made in the constructor.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "gvs/core/frame.hpp"
+#include "gvs/core/laser_geometry.hpp"
+#include "gvs/core/ride_height.hpp"
+
+namespace gvs::dsp {
+
+/// Why a dot was not found (or `found`).
+enum class DotStatus : std::uint8_t { found, faint, contested, off_track, at_edge, no_track };
+
+/// A measured position of a dot (or of a rival as bright).
+struct Candidate {
+  double row = 0.0;
+  double col = 0.0;
+  core::Vec3 ground_mm;  ///< triangulated point, head axes
+};
+
+struct LaserDot {
+  bool found = false;
+  DotStatus status = DotStatus::no_track;
+  double peak_sigmas = 0.0;     ///< response over the track's robust sigma
+  double rival_fraction = 0.0;  ///< best rival's response over the peak's
+  double row = 0.0;  ///< centroid, px
+  double col = 0.0;
+  double contrast_dn = 0.0;  ///< the dot's brightness over the ground beside it
+  core::Vec3 ground_mm;      ///< triangulated point, head axes
+  /// A candidate to mask (the dot, or a rival as bright): position and background.
+  bool masked = false;
+  double mask_row = 0.0, mask_col = 0.0, mask_background_dn = 0.0;
+  bool rival = false;
+  double rival_row = 0.0, rival_col = 0.0, rival_background_dn = 0.0;
+  /// Contested: the best and its rival, both measured (the plane decides).
+  std::array<Candidate, 2> candidates{};
+  std::size_t alternatives = 0;
+};
+
+struct LaserDotResult {
+  std::array<LaserDot, core::LaserGeometry::kMaxBeams> dots{};
+  std::size_t found = 0;
+  core::RideHeight ride;  ///< has_height / has_tilt only with every dot found and a plausible plane
+};
+
+class LaserDotFinder {
+ public:
+  /// Throws std::invalid_argument naming what is wrong (no beams, a beam
+  /// whose track is not in the frame, heights out of order).
+  LaserDotFinder(const core::CameraGeometry& camera, double nominal_height_mm, const core::LaserGeometry& lasers);
+
+  /// Finds the dots in `gray` (CV_8UC1 of the camera's size). No allocation.
+  LaserDotResult find(const cv::Mat& gray);
+  /// Blends the dots (and bright rivals on their tracks) of `result` into the
+  /// ground beside them, in place, so that the velocity estimators do not
+  /// see spots that move with the height instead of the ground.
+  void mask(const LaserDotResult& result, cv::Mat& gray) const;
+
+  [[nodiscard]] const core::LaserGeometry& lasers() const { return lasers_; }
+
+  /// When a dot counts as found, and which ground counts as the ground.
+  struct Thresholds {
+    /// Its response stands this many robust sigmas (1.4826 MAD of the
+    /// responses along the track) above the track ...
+    double min_sigmas = 4.0;
+    /// ... and at least this bright over the ground around it, DN ...
+    double min_contrast_dn = 12.0;
+    /// ... and no rival elsewhere on the track reaches this fraction of it.
+    double max_rival_fraction = 0.75;
+    /// A centroid further than this from the track is not the dot, px.
+    double max_off_track_px = 1.5;
+    /// A plane tilted more than this is not the ground (a wrong dot), deg:
+    /// a Formula Student car pitches and rolls by up to about 2 deg.
+    double max_tilt_deg = 3.0;
+  };
+  [[nodiscard]] const Thresholds& thresholds() const { return thresholds_; }
+  void set_thresholds(const Thresholds& t) { thresholds_ = t; }
+
+ private:
+  struct Offset {
+    int dr, dc;
+    double along, across;  ///< in units of the spot's sigmas
+  };
+  struct Track {
+    std::vector<double> row, col;  ///< sample positions, 1 px apart, window inside the frame
+    double row0 = 0.0, col0 = 0.0;  ///< the line: (row0, col0) + u (er, ec)
+    double er = 1.0, ec = 0.0;
+    double sigma_along_px = 1.0, sigma_across_px = 1.0;
+    std::vector<Offset> inner, side, window;  ///< the spot, the ring around it, the centroid's window
+  };
+  void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
+  DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
+  void resolve(LaserDotResult& out) const;
+  [[nodiscard]] bool plausible(const core::RideHeight& ride) const;
+  double response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const;
+
+  core::CameraGeometry camera_;
+  double nominal_height_mm_;
+  core::LaserGeometry lasers_;
+  std::array<Track, core::LaserGeometry::kMaxBeams> tracks_{};
+  std::vector<double> responses_, backgrounds_, scratch_;
+  Thresholds thresholds_;
+};
+
+}  // namespace gvs::dsp

@@ -1,0 +1,297 @@
+// See gvs/dsp/laser_dots.hpp and docs/estimator.md, "Height from the laser dots".
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "gvs/dsp/ground_plane.hpp"
+#include "gvs/dsp/laser_dots.hpp"
+
+namespace gvs::dsp {
+namespace {
+
+constexpr double kPsfSigmaPx = 0.5;      // lens and pixel, as the simulator's
+constexpr double kHeightMarginMm = 3.0;  // tilt moves a dot along its track by up to ~1.5 mm of height
+constexpr double kInnerSigmas = 1.5;     // the spot: within 1.5 sigma
+constexpr double kRingInnerSigmas = 2.5;  // the ground around it
+constexpr double kRingOuterSigmas = 3.5;
+constexpr double kWindowSigmas = 3.0;    // the centroid's window
+constexpr double kWeightSigmas = 1.0;    // the centroid's Gaussian weight, in spot sigmas
+constexpr double kMaskFullSigmas = 3.0;  // mask: the ground's mean inside, tapering to the frame by ...
+constexpr double kMaskEdgeSigmas = 4.5;  // ... here
+
+}  // namespace
+
+LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nominal_height_mm,
+                               const core::LaserGeometry& lasers)
+    : camera_(camera), nominal_height_mm_(nominal_height_mm), lasers_(lasers) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("laser dots: " + what + " (camera.json 'lasers' or gvsd.toml [lasers])");
+  };
+  if (!lasers.enabled() || lasers.count > core::LaserGeometry::kMaxBeams) fail("need 1 to 3 beams");
+  if (!(nominal_height_mm > 0.0)) fail("the nominal height must be positive");
+  if (!(lasers.min_height_mm > 0.0 && lasers.max_height_mm > lasers.min_height_mm))
+    fail("min_height_mm must be positive and below max_height_mm");
+  if (!(lasers.spot_sigma_mm > 0.0)) fail("spot_sigma_mm must be positive");
+  std::size_t longest = 0;
+  for (std::size_t k = 0; k < lasers.count; ++k) {
+    const core::LaserBeam& beam = lasers.beams[k];
+    if (!(beam.tilt_deg > 1.0 && beam.tilt_deg < 80.0)) fail("beam " + std::to_string(k) + ": tilt_deg must be in (1, 80)");
+    Track& t = tracks_[k];
+    // The track: the image of the beam between the lowest and highest
+    // level ground searched (a straight line: the image of a straight line).
+    const core::Vec3 o = beam.origin_mm();
+    const core::Vec3 u = beam.direction();
+    double r0 = 0.0, c0 = 0.0, r1 = 0.0, c1 = 0.0;
+    const double h0 = lasers.min_height_mm - kHeightMarginMm, h1 = lasers.max_height_mm + kHeightMarginMm;
+    core::head_to_pixel(camera, nominal_height_mm, o + ((h0 + o.z) / -u.z) * u, r0, c0);
+    core::head_to_pixel(camera, nominal_height_mm, o + ((h1 + o.z) / -u.z) * u, r1, c1);
+    const double length = std::hypot(r1 - r0, c1 - c0);
+    if (!(length > 1.0)) fail("beam " + std::to_string(k) + ": its dot does not move with the height");
+    t.row0 = r0;
+    t.col0 = c0;
+    t.er = (r1 - r0) / length;
+    t.ec = (c1 - c0) / length;
+    // The spot: Gaussian of the beam's sigma, stretched by 1 / cos(tilt)
+    // along the track (oblique incidence), blurred by the optics.
+    const double sigma_px = lasers.spot_sigma_mm / camera.mm_per_px;
+    t.sigma_across_px = std::hypot(sigma_px, kPsfSigmaPx);
+    t.sigma_along_px = std::hypot(sigma_px / std::cos(core::deg_to_rad(beam.tilt_deg)), kPsfSigmaPx);
+    const double sa = t.sigma_along_px, sc = t.sigma_across_px;
+    const int reach = static_cast<int>(std::ceil(kMaskEdgeSigmas * std::max(sa, sc))) + 1;
+    for (int dr = -reach; dr <= reach; ++dr) {
+      for (int dc = -reach; dc <= reach; ++dc) {
+        const double along = dr * t.er + dc * t.ec;
+        const double across = -dr * t.ec + dc * t.er;
+        const Offset off{dr, dc, along / sa, across / sc};
+        // Centre-surround: the spot (rho <= 1.5 sigma) against a ring
+        // around it (2.5 to 3.5 sigma), which a stone or an edge larger
+        // than the spot also lights.
+        const double rho = std::hypot(off.along, off.across);
+        if (rho <= kInnerSigmas) t.inner.push_back(off);
+        else if (rho >= kRingInnerSigmas && rho <= kRingOuterSigmas) t.side.push_back(off);
+        if (std::abs(along) <= kWindowSigmas * sa + 1.0 && std::abs(across) <= kWindowSigmas * sc + 1.0)
+          t.window.push_back(off);
+      }
+    }
+    // Samples 1 px apart whose windows lie inside the frame.
+    for (double s = 0.0; s <= length; s += 1.0) {
+      const double r = r0 + s * t.er, c = c0 + s * t.ec;
+      if (r < reach || c < reach || r > camera.height_px - 1 - reach || c > camera.width_px - 1 - reach) continue;
+      t.row.push_back(r);
+      t.col.push_back(c);
+    }
+    if (t.row.size() < 8) fail("beam " + std::to_string(k) + ": its track is not in the frame");
+    longest = std::max(longest, t.row.size());
+  }
+  responses_.resize(longest);
+  backgrounds_.resize(longest);
+  scratch_.resize(longest);
+}
+
+double LaserDotFinder::response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const {
+  double inner = 0.0, side = 0.0;
+  for (const Offset& o : t.inner) inner += gray.at<std::uint8_t>(r + o.dr, c + o.dc);
+  for (const Offset& o : t.side) side += gray.at<std::uint8_t>(r + o.dr, c + o.dc);
+  background = side / static_cast<double>(t.side.size());
+  return inner / static_cast<double>(t.inner.size()) - background;
+}
+
+void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot) {
+  const Track& t = tracks_[k];
+  const std::size_t n = t.row.size();
+  // 1. Centre-surround along the track: mean over the spot minus the
+  //    ground around it.
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    responses_[i] = response(gray, t, static_cast<int>(std::lround(t.row[i])), static_cast<int>(std::lround(t.col[i])),
+                             backgrounds_[i]);
+    if (responses_[i] > responses_[best]) best = i;
+  }
+  // 2. Is it clearly there? Robust spread of the track's responses (median
+  //    absolute deviation: the asphalt's texture and the sensor's noise).
+  std::copy(responses_.begin(), responses_.begin() + static_cast<std::ptrdiff_t>(n), scratch_.begin());
+  const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
+  const double median = *mid;
+  for (std::size_t i = 0; i < n; ++i) scratch_[i] = std::abs(responses_[i] - median);
+  std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
+  const double spread = 1.4826 * *mid;
+  const double peak = responses_[best] - median;
+  const double exclusion = kWindowSigmas * t.sigma_along_px + 2.0;
+  std::size_t rival = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::abs(static_cast<double>(i) - static_cast<double>(best)) <= exclusion) continue;
+    if (rival == n || responses_[i] > responses_[rival]) rival = i;
+  }
+  dot.contrast_dn = responses_[best];
+  dot.peak_sigmas = spread > 0.0 ? peak / spread : 0.0;
+  dot.rival_fraction = rival < n && peak > 0.0 ? (responses_[rival] - median) / peak : 0.0;
+  const bool bright = responses_[best] >= thresholds_.min_contrast_dn && peak >= thresholds_.min_sigmas * spread;
+  const bool contested = rival < n && responses_[rival] - median >= thresholds_.max_rival_fraction * peak;
+  if (bright) {
+    dot.masked = true;
+    dot.mask_row = t.row[best];
+    dot.mask_col = t.col[best];
+    dot.mask_background_dn = backgrounds_[best];
+    if (contested) {
+      dot.rival = true;
+      dot.rival_row = t.row[rival];
+      dot.rival_col = t.col[rival];
+      dot.rival_background_dn = backgrounds_[rival];
+    }
+  }
+  dot.status = !bright ? DotStatus::faint : DotStatus::contested;
+  if (!bright) return;
+  if (contested) {
+    // Both measured: the ground plane may tell which is the dot (find()).
+    dot.alternatives = 0;
+    for (const std::size_t i : {best, rival}) {
+      Candidate& cand = dot.candidates[dot.alternatives];
+      if (measure(gray, k, i, cand) != DotStatus::found) return;  // one unmeasurable: leave it contested
+      ++dot.alternatives;
+    }
+    return;
+  }
+  Candidate cand;
+  dot.status = measure(gray, k, best, cand);
+  if (dot.status != DotStatus::found) return;
+  dot.found = true;
+  dot.row = cand.row;
+  dot.col = cand.col;
+  dot.ground_mm = cand.ground_mm;
+  dot.mask_row = cand.row;
+  dot.mask_col = cand.col;
+}
+
+DotStatus LaserDotFinder::measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const {
+  const Track& t = tracks_[k];
+  // 3. Centroid of the light over the ground around it, weighted with the
+  //    spot's own Gaussian centred on the current estimate (a matched
+  //    centroid: pixels far out, mostly asphalt and noise, count little),
+  //    in a window of +-3 sigma, four times from the peak.
+  const double bg = backgrounds_[sample];
+  double rc = t.row[sample], cc = t.col[sample];
+  for (int iter = 0; iter < 4; ++iter) {
+    const int r0 = static_cast<int>(std::lround(rc)), c0 = static_cast<int>(std::lround(cc));
+    double sw = 0.0, sr = 0.0, sc = 0.0;
+    for (const Offset& o : t.window) {
+      const int r = r0 + o.dr, c = c0 + o.dc;
+      if (r < 0 || c < 0 || r >= gray.rows || c >= gray.cols) return DotStatus::at_edge;  // not measurable
+      const double light = gray.at<std::uint8_t>(r, c) - bg;
+      if (light <= 0.0) continue;
+      const double y = r - rc, x = c - cc;
+      const double along = (y * t.er + x * t.ec) / t.sigma_along_px;
+      const double across = (-y * t.ec + x * t.er) / t.sigma_across_px;
+      const double w = light * std::exp(-0.5 * (along * along + across * across) / (kWeightSigmas * kWeightSigmas));
+      sw += w;
+      sr += w * r;
+      sc += w * c;
+    }
+    if (!(sw > 0.0)) return DotStatus::at_edge;
+    rc = sr / sw;
+    cc = sc / sw;
+  }
+  // 4. On its track? (A stone beside the track pulls the centroid off it.)
+  const double across = -(rc - t.row0) * t.ec + (cc - t.col0) * t.er;
+  if (std::abs(across) > thresholds_.max_off_track_px) return DotStatus::off_track;
+  if (!triangulate(lasers_.beams[k], core::pixel_ray(camera_, nominal_height_mm_, rc, cc), out.ground_mm))
+    return DotStatus::at_edge;
+  out.row = rc;
+  out.col = cc;
+  return DotStatus::found;
+}
+
+bool LaserDotFinder::plausible(const core::RideHeight& ride) const {
+  return ride.has_height && ride.height_mm >= lasers_.min_height_mm && ride.height_mm <= lasers_.max_height_mm &&
+         std::abs(ride.pitch_deg) <= thresholds_.max_tilt_deg && std::abs(ride.roll_deg) <= thresholds_.max_tilt_deg;
+}
+
+LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
+  LaserDotResult out;
+  if (gray.type() != CV_8UC1 || gray.rows != camera_.height_px || gray.cols != camera_.width_px) return out;
+  for (std::size_t k = 0; k < lasers_.count; ++k) find_one(gray, k, out.dots[k]);
+  if (lasers_.count == 3) resolve(out);
+  for (std::size_t k = 0; k < lasers_.count; ++k)
+    if (out.dots[k].found) ++out.found;
+  return out;
+}
+
+void LaserDotFinder::resolve(LaserDotResult& out) const {
+  // Each dot: found (one choice), contested with two measured candidates
+  // (two choices), else no plane. A plane outside the searched heights, or
+  // tilted beyond max_tilt_deg, is not the ground; a contested dot is
+  // resolved when only one of its candidates gives a plausible plane (a
+  // rival elsewhere on the track moves the plane by millimetres and
+  // degrees), and left unfound when both do.
+  std::array<std::size_t, 3> choices{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const LaserDot& d = out.dots[k];
+    if (d.found) choices[k] = 1;
+    else if (d.status == DotStatus::contested && d.alternatives == 2) choices[k] = 2;
+    else return;
+  }
+  auto point = [&](std::size_t k, std::size_t c) -> const core::Vec3& {
+    return out.dots[k].found ? out.dots[k].ground_mm : out.dots[k].candidates[c].ground_mm;
+  };
+  std::size_t plausible_count = 0;
+  std::array<std::size_t, 3> pick{};
+  core::RideHeight ride;
+  for (std::size_t a = 0; a < choices[0]; ++a)
+    for (std::size_t b = 0; b < choices[1]; ++b)
+      for (std::size_t c = 0; c < choices[2]; ++c) {
+        const core::RideHeight r = ground_from_points(point(0, a), point(1, b), point(2, c), camera_.mount_yaw_deg);
+        if (!plausible(r)) continue;
+        ++plausible_count;
+        pick = {a, b, c};
+        ride = r;
+      }
+  if (plausible_count != 1) return;
+  for (std::size_t k = 0; k < 3; ++k) {
+    LaserDot& d = out.dots[k];
+    if (d.found) continue;
+    const Candidate& cand = d.candidates[pick[k]];
+    d.found = true;
+    d.status = DotStatus::found;
+    d.row = cand.row;
+    d.col = cand.col;
+    d.ground_mm = cand.ground_mm;
+  }
+  out.ride = ride;
+}
+
+void LaserDotFinder::mask(const LaserDotResult& result, cv::Mat& gray) const {
+  auto blend = [&](const Track& t, double row, double col, double background) {
+    const int r0 = static_cast<int>(std::lround(row)), c0 = static_cast<int>(std::lround(col));
+    const double fr = row - r0, fc = col - c0;
+    const int reach = static_cast<int>(std::ceil(kMaskEdgeSigmas * t.sigma_along_px)) + 1;
+    for (int dr = -reach; dr <= reach; ++dr) {
+      const int r = r0 + dr;
+      if (r < 0 || r >= gray.rows) continue;
+      auto* line = gray.ptr<std::uint8_t>(r);
+      for (int dc = -reach; dc <= reach; ++dc) {
+        const int c = c0 + dc;
+        if (c < 0 || c >= gray.cols) continue;
+        const double y = dr - fr, x = dc - fc;
+        const double along = (y * t.er + x * t.ec) / t.sigma_along_px;
+        const double across = (-y * t.ec + x * t.er) / t.sigma_across_px;
+        const double rho = std::sqrt(along * along + across * across);
+        if (rho >= kMaskEdgeSigmas) continue;
+        // Weight 1 inside 3 sigma, a raised-cosine taper to 0 at 4.5 sigma.
+        const double w = rho <= kMaskFullSigmas
+                             ? 1.0
+                             : 0.5 * (1.0 + std::cos(core::kPi * (rho - kMaskFullSigmas) /
+                                                     (kMaskEdgeSigmas - kMaskFullSigmas)));
+        const double v = background + (line[c] - background) * (1.0 - w);
+        line[c] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+      }
+    }
+  };
+  for (std::size_t k = 0; k < lasers_.count; ++k) {
+    const LaserDot& d = result.dots[k];
+    if (d.masked) blend(tracks_[k], d.mask_row, d.mask_col, d.mask_background_dn);
+    if (d.rival) blend(tracks_[k], d.rival_row, d.rival_col, d.rival_background_dn);
+  }
+}
+
+}  // namespace gvs::dsp
