@@ -49,7 +49,8 @@ std::optional<double> read_signal(const CanFrame& frame, const ForeignSignal& s)
   if (frame.error || frame.remote || frame.extended != s.extended || frame.id != s.can_id) return std::nullopt;
   std::uint64_t raw = 0;
   const int bytes = walk_bits(s, [&](int i, int bit) {
-    const std::uint64_t v = (frame.data[static_cast<std::size_t>(bit / 8)] >> (bit % 8)) & 1u;
+    const auto b = static_cast<unsigned>(bit);
+    const std::uint64_t v = (static_cast<unsigned>(frame.data[b / 8u]) >> (b % 8u)) & 1u;
     // Intel: the i-th bit walked is bit i of the value; Motorola: from the top.
     const int pos = s.big_endian ? s.length - 1 - i : i;
     raw |= v << pos;
