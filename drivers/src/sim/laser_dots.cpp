@@ -70,7 +70,7 @@ void add_laser_dots(const core::LaserGeometry& lasers, const LaserLight& light, 
   CV_Assert(reflectance.type() == CV_32FC1 && reflectance.rows == camera.height_px &&
             reflectance.cols == camera.width_px);
   scratch.create(reflectance.size(), CV_32FC1);
-  scratch.setTo(0.0f);
+  scratch.setTo(0.0);
   const CameraFrame cam{camera.mm_per_px,         (camera.height_px - 1) / 2.0,
                         (camera.width_px - 1) / 2.0, core::deg_to_rad(camera.mount_yaw_deg),
                         camera.width_px,          camera.height_px,

@@ -27,7 +27,7 @@ std::vector<BrightSpot> find_bright_spots(const cv::Mat& gray, double sigma_px, 
             is_max = false;
             break;
           }
-      if (is_max) found.push_back({static_cast<double>(r), static_cast<double>(c), v});
+      if (is_max) found.push_back({static_cast<double>(r), static_cast<double>(c), static_cast<double>(v)});
     }
   }
   std::sort(found.begin(), found.end(), [](const BrightSpot& a, const BrightSpot& b) {
@@ -36,7 +36,7 @@ std::vector<BrightSpot> find_bright_spots(const cv::Mat& gray, double sigma_px, 
   if (found.size() > max_spots) found.resize(max_spots);
   // Matched centroid over the local background (the surround).
   for (BrightSpot& s : found) {
-    const double bg = surround.at<float>(static_cast<int>(s.row), static_cast<int>(s.col));
+    const double bg = static_cast<double>(surround.at<float>(static_cast<int>(s.row), static_cast<int>(s.col)));
     double rc = s.row, cc = s.col;
     for (int iter = 0; iter < 4; ++iter) {
       double sw = 0.0, sr = 0.0, sc = 0.0;
