@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -34,7 +35,7 @@ core::VelocityEstimate moving_estimate() {
 TEST(ExternalHeight, ScalesTheVelocityByHeightOverNominal) {
   core::VelocityEstimate e = moving_estimate();
   const core::VelocityEstimate before = e;
-  apply_external_height(e, 63.0, 60.0);  // 3 mm higher: 5 % more ground per pixel
+  EXPECT_TRUE(apply_external_height(e, 63.0, 60.0));  // 3 mm higher: 5 % more ground per pixel
   EXPECT_NEAR(e.vx_mps, before.vx_mps * 1.05, 1e-12);
   EXPECT_NEAR(e.vy_mps, before.vy_mps * 1.05, 1e-12);
   EXPECT_NEAR(e.speed_mps, before.speed_mps * 1.05, 1e-12);
@@ -46,13 +47,26 @@ TEST(ExternalHeight, ScalesTheVelocityByHeightOverNominal) {
   EXPECT_EQ(e.scale_source, core::ScaleSource::external);
 }
 
+TEST(ExternalHeight, AHeightFarFromTheNominalIsNotTheCamerasAndScalesNothing) {
+  for (const double h : {40.0, 44.0, 76.0, 600.0, 0.0, -5.0, std::nan("")}) {
+    core::VelocityEstimate e = moving_estimate();
+    const double speed = e.speed_mps;
+    EXPECT_FALSE(apply_external_height(e, h, 60.0)) << h << " mm";
+    EXPECT_EQ(e.speed_mps, speed) << h << " mm";
+    EXPECT_FALSE(e.ride.has_height) << h << " mm";
+    EXPECT_EQ(e.scale_source, core::ScaleSource::nominal) << h << " mm";
+  }
+  core::VelocityEstimate e = moving_estimate();
+  EXPECT_TRUE(apply_external_height(e, 74.0, 60.0)) << "14 mm above: within the kerb strike's reach";
+}
+
 TEST(ExternalHeight, AHeightMeasuredInTheFrameWins) {
   core::VelocityEstimate e = moving_estimate();
   e.scale_source = core::ScaleSource::laser_dots;
   e.ride.has_height = true;
   e.ride.height_mm = 59.5;
   const double speed = e.speed_mps;
-  apply_external_height(e, 63.0, 60.0);
+  EXPECT_FALSE(apply_external_height(e, 63.0, 60.0));
   EXPECT_EQ(e.speed_mps, speed);
   EXPECT_EQ(e.ride.height_mm, 59.5);
   EXPECT_EQ(e.scale_source, core::ScaleSource::laser_dots);

@@ -1,5 +1,7 @@
 #include "gvs/daemon/external_height.hpp"
 
+#include <cmath>
+
 namespace gvs::daemon {
 
 can::ForeignSignal external_height_signal(const ExternalHeightConfig& c) noexcept {
@@ -15,15 +17,17 @@ can::ForeignSignal external_height_signal(const ExternalHeightConfig& c) noexcep
   return s;
 }
 
-void apply_external_height(core::VelocityEstimate& e, double height_mm, double nominal_mm) noexcept {
-  if (e.scale_source != core::ScaleSource::nominal || !(nominal_mm > 0.0) || !(height_mm > 0.0)) return;
+bool apply_external_height(core::VelocityEstimate& e, double height_mm, double nominal_mm) noexcept {
+  if (e.scale_source != core::ScaleSource::nominal || !(nominal_mm > 0.0)) return false;
   const double k = height_mm / nominal_mm;
+  if (!(std::fabs(k - 1.0) <= kMaxHeightChange)) return false;
   e.vx_mps *= k;
   e.vy_mps *= k;
   e.speed_mps *= k;
   e.ride.has_height = true;
   e.ride.height_mm = height_mm;
   e.scale_source = core::ScaleSource::external;
+  return true;
 }
 
 }  // namespace gvs::daemon

@@ -48,7 +48,7 @@ void Pipeline::processing_loop() noexcept {
       }
       const auto max_gap_ns = static_cast<std::int64_t>(config_.height.max_gap_ms * 1e6);
       if (const std::optional<double> h = height_history_.at(e.t_ns, max_gap_ns)) {
-        apply_external_height(e, *h, config_.height.nominal_mm);
+        (void)apply_external_height(e, *h, config_.height.nominal_mm);  // false: nominal scale, flagged
       }
     }
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);

@@ -17,7 +17,13 @@ can::ForeignSignal external_height_signal(const ExternalHeightConfig& c) noexcep
 /// velocity measured in pixels scales with the height:
 ///   v = v_nominal * height_mm / nominal_mm.
 /// The yaw rate (an angle per time) does not depend on it. An estimate whose
-/// height was measured in the frame (laser dots) keeps it.
-void apply_external_height(core::VelocityEstimate& e, double height_mm, double nominal_mm) noexcept;
+/// height was measured in the frame (laser dots) keeps it. A height more than
+/// kMaxHeightChange from the nominal is not the camera's (a sensor fault, a
+/// wrong signal definition): the estimate keeps the nominal scale, flagged
+/// uncorrected, and the function returns false.
+bool apply_external_height(core::VelocityEstimate& e, double height_mm, double nominal_mm) noexcept;
+
+/// 25 %: 15 mm at 60 mm, beyond heave, kerb strikes (10 mm) and tyre growth.
+inline constexpr double kMaxHeightChange = 0.25;
 
 }  // namespace gvs::daemon
