@@ -24,6 +24,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "gvs/core/geometry.hpp"
 #include "gvs/drivers/sim/scenario.hpp"
 
 namespace gvs::drivers::sim {
@@ -67,13 +68,10 @@ struct ViewMap {
   constexpr double kDeg = std::numbers::pi / 180.0;
   const double th = b.pitch_deg * kDeg;
   const double ph = b.roll_deg * kDeg;
-  const double ct = std::cos(th), st = std::sin(th), cf = std::cos(ph), sf = std::sin(ph);
-  // R = Ry(pitch) Rx(roll).
-  const double rxx = ct, rxy = st * sf, rxz = st * cf;
-  const double ryx = 0.0, ryy = cf, ryz = -sf;
-  const double rzx = -st, rzy = ct * sf, rzz = ct * cf;
-  const double axx = rzz * rxx - rxz * rzx, axy = rzz * rxy - rxz * rzy;
-  const double ayx = rzz * ryx - ryz * rzx, ayy = rzz * ryy - ryz * rzy;
+  // R = Ry(pitch) Rx(roll) and the tilted ground's map (core::tilt_map).
+  const core::TiltMap t = core::tilt_map(th, ph);
+  const double rzx = t.rzx, rzy = t.rzy, rzz = t.rzz;
+  const double axx = t.axx, axy = t.axy, ayx = t.ayx, ayy = t.ayy;
   // (a', b') = k M (r - rc, c - cc), k = s0 / H0, M = Rz(mount) (-I).
   const double k = cam.s_mm / cam.height_mm;
   const double cm = std::cos(cam.mount_rad), sm = std::sin(cam.mount_rad);

@@ -48,17 +48,11 @@ void correct_velocity(const core::RideHeight& ride, double nominal_height_mm, do
     vy_mps *= k;
     return;
   }
-  const double th = core::deg_to_rad(ride.pitch_deg), ph = core::deg_to_rad(ride.roll_deg);
-  const double ct = std::cos(th), st = std::sin(th), cf = std::cos(ph), sf = std::sin(ph);
-  // R = Ry(pitch) Rx(roll), as the simulator's camera_view.hpp.
-  const double rxx = ct, rxy = st * sf, rxz = st * cf;
-  const double ryx = 0.0, ryy = cf, ryz = -sf;
-  const double rzx = -st, rzy = ct * sf, rzz = ct * cf;
-  const double axx = rzz * rxx - rxz * rzx, axy = rzz * rxy - rxz * rzy;
-  const double ayx = rzz * ryx - ryz * rzx, ayy = rzz * ryy - ryz * rzy;
+  // The simulator's projection at the optical axis (core::tilt_map).
+  const core::TiltMap t = core::tilt_map(core::deg_to_rad(ride.pitch_deg), core::deg_to_rad(ride.roll_deg));
   const double vx = vx_mps, vy = vy_mps;
-  vx_mps = k * (axx * vx + axy * vy) / rzz;
-  vy_mps = k * (ayx * vx + ayy * vy) / rzz;
+  vx_mps = k * (t.axx * vx + t.axy * vy) / t.rzz;
+  vy_mps = k * (t.ayx * vx + t.ayy * vy) / t.rzz;
 }
 
 }  // namespace gvs::dsp

@@ -83,4 +83,30 @@ inline Vec2 unit_vector(Vec2 v) {
 /// Direction of travel, atan2(vy, vx) in degrees, (-180, 180].
 inline double direction_deg(Vec2 v) { return wrap_deg(rad_to_deg(std::atan2(v.y, v.x))); }
 
+/// The body's attitude R = Ry(pitch) Rx(roll) (ISO 8855 z-y-x: pitch + nose
+/// down, roll + right side down): its bottom row (where the body's z axis
+/// points) and the 2x2 map A = r_zz R_xy - r_xz,yz r_zx,zy that takes a level
+/// ground displacement to the tilted camera's, up to the perspective
+/// divisor. The simulator's projection (drivers/src/sim/camera_view.hpp) and
+/// the laser dots' velocity correction (dsp/src/lasers/ground_plane.cpp)
+/// share it.
+struct TiltMap {
+  double rzx, rzy, rzz;
+  double axx, axy, ayx, ayy;
+};
+
+inline TiltMap tilt_map(double pitch_rad, double roll_rad) {
+  const double ct = std::cos(pitch_rad), st = std::sin(pitch_rad), cf = std::cos(roll_rad), sf = std::sin(roll_rad);
+  const double rxx = ct, rxy = st * sf, rxz = st * cf;
+  const double ryx = 0.0, ryy = cf, ryz = -sf;
+  const double rzx = -st, rzy = ct * sf, rzz = ct * cf;
+  return {rzx,
+          rzy,
+          rzz,
+          rzz * rxx - rxz * rzx,
+          rzz * rxy - rxz * rzy,
+          rzz * ryx - ryz * rzx,
+          rzz * ryy - ryz * rzy};
+}
+
 }  // namespace gvs::core
