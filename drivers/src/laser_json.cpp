@@ -1,6 +1,7 @@
 #include "laser_json.hpp"
 
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include "gvs/drivers/dataset.hpp"
@@ -71,5 +72,21 @@ core::LaserGeometry laser_geometry_from_json(const nlohmann::json& j, const std:
 namespace gvs::drivers {
 std::string laser_geometry_json_text(const core::LaserGeometry& lasers) {
   return detail::laser_geometry_json(lasers).dump(2);
+}
+
+core::LaserGeometry load_laser_geometry(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw DatasetError(file.string() + ": cannot read the laser geometry (write it with `gvs calibrate height --out`)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw DatasetError(file.string() + ": not JSON (" + e.what() + ")");
+  }
+  // A camera.json carries the geometry under "lasers"; calibrate's file is the object itself.
+  const nlohmann::json& lasers = j.is_object() && j.contains("lasers") ? j.at("lasers") : j;
+  core::LaserGeometry g = detail::laser_geometry_from_json(lasers, file);
+  if (!g.enabled()) throw DatasetError(file.string() + ": key 'lasers': 'beams' is empty");
+  return g;
 }
 }  // namespace gvs::drivers

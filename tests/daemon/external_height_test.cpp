@@ -73,7 +73,7 @@ TEST(ExternalHeight, AHeightMeasuredInTheFrameWins) {
 }
 
 TEST(ExternalHeight, SignalFromTheKeysAsTheirDbcLine) {
-  ExternalHeightConfig c;
+  HeightConfig c;
   c.can_id = 0x6A1;
   c.start_bit = 7;
   c.length = 16;

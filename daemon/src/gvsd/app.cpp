@@ -151,7 +151,7 @@ int run(const CommandLine& cli) {
   int mlock_errno = 0;
   try {
     auto source = make_frame_source(config);
-    auto estimator = make_frame_estimator(config.estimator_method, source->geometry());
+    auto estimator = make_frame_estimator(config.estimator_method, source->geometry(), config.height);
     can::SinkOptions sink_options;
     auto sink = can::open_sink(config.can_uri, sink_options);
     spdlog::info("gvsd: source {}, estimator {}, CAN {} (base ID 0x{:03X}, every {} ms, status every {} ms), "
@@ -171,6 +171,10 @@ int run(const CommandLine& cli) {
                    "while its frames arrive)",
                    config.height.can_id, config.height.interface.empty() ? config.can_uri : config.height.interface,
                    config.height.nominal_mm);
+    } else if (config.height.source == "lasers") {
+      spdlog::info("gvsd: speed scale: height, pitch and roll from the laser dots of {} over a nominal {} mm "
+                   "(GVS_ScaleSource laser_dots in frames where every dot is found)",
+                   config.height.lasers_file, config.height.nominal_mm);
     } else {
       spdlog::info("gvsd: speed scale: nominal, uncorrected for heave, pitch and roll (no [height] source; "
                    "GVS_FaultScaleUncorrected is set)");

@@ -11,6 +11,7 @@
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/external_height.hpp"
 #include "gvs/drivers/sim/ground_spec.hpp"
+#include "gvs/drivers/simulator.hpp"
 #include "gvs/dsp/estimator.hpp"
 
 namespace gvs::daemon {
@@ -31,7 +32,8 @@ std::vector<std::string> exposure_modes() { return {"fixed", "adaptive", "double
 std::vector<std::string> pixel_formats() { return {"R8", "YUV420"}; }
 std::vector<std::string> light_drivers() { return {"none", "gpio", "pwm"}; }
 std::vector<std::string> log_levels() { return log_level_names(); }
-std::vector<std::string> height_sources() { return {"none", "can"}; }
+std::vector<std::string> height_sources() { return {"none", "can", "lasers"}; }
+std::vector<std::string> sim_bodies() { return drivers::body_motion_names(); }
 std::vector<std::string> byte_orders() { return {"intel", "motorola"}; }
 
 const std::array kSections{
@@ -55,13 +57,18 @@ const std::array kSections{
                   "position relative to the car's reference point, vehicle axes (x forward, y left):\n"
                   "the velocity is moved there with the yaw rate, v_ref = v_sensor - omega x r."},
     ConfigSection{"height",
-                  "The camera's height from an external distance sensor on CAN, for a head without laser\n"
-                  "dots (docs/can-interface.md, \"External height\"). Each estimate's speed is scaled by\n"
-                  "height / nominal_mm at its mid-exposure instant (interpolated between the sensor's\n"
-                  "frames) and goes out with GVS_ScaleSource = external; without a sample near enough\n"
-                  "the scale stays nominal and GVS_FaultScaleUncorrected says so. The signal is given\n"
-                  "as its DBC line gives it: SG_ H : 7|16@0+ (0.01,0) is start_bit 7, length 16,\n"
-                  "motorola, scale 0.01."},
+                  "Where the camera's height comes from; each estimate's speed is scaled by\n"
+                  "height / nominal_mm (the ground scale is proportional to the height).\n"
+                  "  lasers  the head's laser dots, found in every frame (docs/estimator.md, \"Height from\n"
+                  "          the laser dots\"): height, pitch and roll, GVS_ScaleSource = laser_dots;\n"
+                  "          lasers_file is what `gvs calibrate height --out` wrote (or a camera.json)\n"
+                  "  can     an external distance sensor on CAN (docs/can-interface.md, \"External\n"
+                  "          height\"), at each estimate's mid-exposure instant, interpolated between\n"
+                  "          the sensor's frames: GVS_ScaleSource = external. The signal is given as\n"
+                  "          its DBC line gives it: SG_ H : 7|16@0+ (0.01,0) is start_bit 7, length 16,\n"
+                  "          motorola, scale 0.01\n"
+                  "Without a height for a frame the scale stays nominal and GVS_FaultScaleUncorrected\n"
+                  "says so."},
     ConfigSection{"estimator", "How a frame becomes a velocity (docs/estimator.md)."},
     ConfigSection{"exposure",
                   "Closed loop: the processing thread plans the next exposure from the latest estimate\n"
@@ -104,6 +111,9 @@ const std::array kKeys{
               .reload = restart, .help = "simulated asphalt and noise"},
     ConfigKey{.section = "source", .name = "sim_ground", .field = GVS_FIELD(sim_ground), .reload = restart,
               .help = "\"procedural\" or \"photo:FILE[:MM_PER_PIXEL]\", a seamless asphalt photo (docs/simulator.md)"},
+    ConfigKey{.section = "source", .name = "sim_body", .field = GVS_FIELD(sim_body), .allowed = sim_bodies,
+              .reload = restart,
+              .help = "the simulated car's body motion: flat, heave (+-5 mm at 1-5 Hz) or ride (heave, pitch, roll, a kerb)"},
     ConfigKey{.section = "source", .name = "replay_preload_limit_mb", .field = GVS_FIELD(replay_preload_limit_mb),
               .min = 1, .max = 65536, .unit = "MiB", .reload = restart,
               .help = "replay decodes every frame into memory at start-up, at most this much"},
@@ -166,7 +176,11 @@ const std::array kKeys{
               .max = 10, .unit = "m", .reload = restart, .help = "sensor left of the reference point"},
     // [height]
     ConfigKey{.section = "height", .name = "source", .field = GVS_FIELD(height.source), .allowed = height_sources,
-              .reload = restart, .help = "can: an external distance sensor's frames; none: no height"},
+              .reload = restart,
+              .help = "lasers: the head's laser dots; can: an external distance sensor's frames; none: no height"},
+    ConfigKey{.section = "height", .name = "lasers_file", .field = GVS_FIELD(height.lasers_file), .reload = restart,
+              .help = "the laser dots' geometry: `gvs calibrate height --out` JSON, or a camera.json",
+              .only_when = "source = \"lasers\"", .example = "\"/etc/gvsd/lasers.json\""},
     ConfigKey{.section = "height", .name = "interface", .field = GVS_FIELD(height.interface), .reload = restart,
               .help = "SocketCAN interface it is received on", .only_when = "source = \"can\"",
               .example = "\"can0\"", .note = "empty = the interface of [can] uri"},
@@ -191,7 +205,8 @@ const std::array kKeys{
               .only_when = "source = \"can\""},
     ConfigKey{.section = "height", .name = "nominal_mm", .field = GVS_FIELD(height.nominal_mm), .min = 1,
               .max = 10000, .unit = "mm", .reload = restart,
-              .help = "the camera's height when [camera] mm_per_px was calibrated", .only_when = "source = \"can\""},
+              .help = "the camera's height when [camera] mm_per_px was calibrated",
+              .only_when = "source = \"can\" or \"lasers\""},
     ConfigKey{.section = "height", .name = "max_gap_ms", .field = GVS_FIELD(height.max_gap_ms), .min = 0.1,
               .max = 1000, .unit = "ms", .reload = restart,
               .help = "samples further apart, or older, than this give no height", .only_when = "source = \"can\""},
@@ -360,6 +375,13 @@ void check_external_height(const DaemonConfig& c) {
   }
 }
 
+void check_lasers_file(const DaemonConfig& c) {
+  if (c.height.source == "lasers" && c.height.lasers_file.empty()) {
+    throw ConfigError(c.origin + ": [height] source = \"lasers\" needs lasers_file: the file `gvs calibrate height "
+                      "--out` wrote (or a camera.json with \"lasers\")");
+  }
+}
+
 const std::array kRules{
     ConfigRule{"source", "`sim_ground` is `procedural` or `photo:FILE[:MM_PER_PIXEL]` with a scale of 0.01 .. 5 mm/px",
                check_sim_ground},
@@ -371,6 +393,7 @@ const std::array kRules{
     ConfigRule{"threads", "`prefault_stack_kb` is at most half of `stack_kb`", check_prefault_within_stack},
     ConfigRule{"height", "with `source = \"can\"`, the signal lies in 8 bytes, its ID fits its format, scale is not 0, and an interface is known",
                check_external_height},
+    ConfigRule{"height", "with `source = \"lasers\"`, `lasers_file` names the beams' geometry", check_lasers_file},
 };
 
 /// Reads a key of a config that is not changed: the table's accessor takes a

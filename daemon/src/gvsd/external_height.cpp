@@ -4,7 +4,7 @@
 
 namespace gvs::daemon {
 
-can::ForeignSignal external_height_signal(const ExternalHeightConfig& c) noexcept {
+can::ForeignSignal external_height_signal(const HeightConfig& c) noexcept {
   can::ForeignSignal s;
   s.can_id = c.can_id;
   s.extended = c.extended;

@@ -6,6 +6,7 @@
 #include "gvs/dsp/frame_processor.hpp"
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/core/geometry.hpp"
+#include "gvs/drivers/dataset.hpp"
 
 namespace gvs::daemon {
 
@@ -70,10 +71,25 @@ core::VelocityEstimate FrameEstimator::estimate(const drivers::FrameSlot& slot) 
                           core::Method::estimator_exception);
 }
 
-std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
-                                                     const core::CameraGeometry& geometry) {
-  if (method == "truth") return std::make_unique<TruthEstimator>();
+core::LaserGeometry load_configured_lasers(const HeightConfig& height) {
+  if (height.source != "lasers") return {};
+  if (height.lasers_file.empty()) {
+    throw std::runtime_error("[height] source = \"lasers\" needs lasers_file: the file `gvs calibrate height --out` "
+                             "wrote (or a camera.json with \"lasers\")");
+  }
+  try {
+    return drivers::load_laser_geometry(height.lasers_file);
+  } catch (const drivers::DatasetError& e) {
+    throw std::runtime_error(std::string("[height] lasers_file: ") + e.what());
+  }
+}
+
+std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method, const core::CameraGeometry& geometry,
+                                                     const HeightConfig& height) {
   dsp::FrameProcessorConfig config;
+  config.lasers = load_configured_lasers(height);  // checked with "truth" too: --check-config names a bad file
+  config.nominal_height_mm = height.nominal_mm;
+  if (method == "truth") return std::make_unique<TruthEstimator>();
   config.estimator.method = method;
   config.estimator.camera = geometry;
   try {

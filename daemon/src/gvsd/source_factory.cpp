@@ -7,6 +7,7 @@
 
 #include "gvs/daemon/config.hpp"
 #include "gvs/drivers/replay_source.hpp"
+#include "gvs/daemon/frame_estimator.hpp"
 #include "gvs/drivers/sim_source.hpp"
 #include "gvs/drivers/simulator.hpp"
 
@@ -58,6 +59,11 @@ drivers::SimulatorConfig sim_config(const DaemonConfig& config, const std::strin
   sim.fps = config.sim_fps;
   sim.seed = static_cast<std::uint64_t>(config.sim_seed);
   sim.ground = config.sim_ground;
+  sim.body = config.sim_body;
+  // The simulated head carries the lasers gvsd is configured to read, at the
+  // nominal height they are measured against.
+  sim.lasers = load_configured_lasers(config.height);
+  if (config.height.source != "none") sim.camera_height_mm = config.height.nominal_mm;
   sim.exposure_us = config.exposure_initial_us;
   sim.camera = config.camera;
   sim.loop = true;

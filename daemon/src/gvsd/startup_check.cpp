@@ -11,7 +11,7 @@ namespace gvs::daemon {
 
 std::string check_startup(const DaemonConfig& config) {
   const core::CameraGeometry geometry = check_frame_source(config);
-  const std::string estimator = make_frame_estimator(config.estimator_method, geometry)->name();
+  const std::string estimator = make_frame_estimator(config.estimator_method, geometry, config.height)->name();
   (void)can::parse_sink_uri(config.can_uri);  // the form open_sink checks before it opens anything
   return estimator;
 }

@@ -31,11 +31,13 @@ struct ThreadConfig {
   int cpu = -1;
 };
 
-/// [height]: the camera's height from an external distance sensor on CAN
-/// (docs/can-interface.md, "External height"), its signal as a DBC line
-/// describes it.
-struct ExternalHeightConfig {
-  std::string source = "none";  ///< none | can
+/// [height]: where the camera's height comes from: the head's laser dots
+/// (docs/estimator.md, "Height from the laser dots") or an external distance
+/// sensor on CAN (docs/can-interface.md, "External height"), its signal as a
+/// DBC line describes it.
+struct HeightConfig {
+  std::string source = "none";  ///< none | can | lasers
+  std::string lasers_file;      ///< lasers: the beams' geometry (gvs calibrate height --out, or a camera.json)
   std::string interface;        ///< SocketCAN interface; empty = the one of [can] uri
   std::uint32_t can_id = 0x520;
   bool extended = false;
@@ -57,6 +59,7 @@ struct DaemonConfig {
   int ring_slots = 4;
   double sim_fps = 60.0;
   std::int64_t sim_seed = 1;
+  std::string sim_body = "flat";  ///< flat | heave | ride (drivers::body_motion_names)
   std::string sim_ground = "procedural";  ///< or "photo:FILE[:MM_PER_PIXEL]" (drivers::sim::parse_ground)
   double replay_preload_limit_mb = 2048.0;
 
@@ -75,7 +78,7 @@ struct DaemonConfig {
   double lever_arm_y_m = 0.0;
 
   // [height]
-  ExternalHeightConfig height;
+  HeightConfig height;
 
   // [estimator]
   std::string estimator_method = "gvs";

@@ -9,7 +9,7 @@
 namespace gvs::daemon {
 
 /// The [height] keys as the signal the CAN library reads.
-can::ForeignSignal external_height_signal(const ExternalHeightConfig& c) noexcept;
+can::ForeignSignal external_height_signal(const HeightConfig& c) noexcept;
 
 /// Rescales an estimate made with the nominal height to the measured one.
 /// The ground scale of a camera looking straight down is its height over

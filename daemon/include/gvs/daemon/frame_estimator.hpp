@@ -10,6 +10,8 @@
 #include "gvs/drivers/frame_slot.hpp"
 #include "gvs/core/estimate.hpp"
 #include "gvs/core/frame.hpp"
+#include "gvs/core/laser_geometry.hpp"
+#include "gvs/daemon/config.hpp"
 
 namespace gvs::daemon {
 
@@ -40,10 +42,17 @@ class FrameEstimator {
   std::uint64_t exceptions_ = 0;
 };
 
-/// "truth" or a dsp::estimator_names() entry. Throws std::runtime_error
-/// naming the method and the allowed ones.
-std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method,
-                                                     const core::CameraGeometry& geometry);
+/// "truth" or a dsp::estimator_names() entry. With [height] source =
+/// "lasers" the frames' laser dots are found and masked and each estimate is
+/// scaled with the height they give (dsp::FrameProcessorConfig::lasers).
+/// Throws std::runtime_error naming the method and the allowed ones, or the
+/// [height] key and file that cannot be used.
+std::unique_ptr<FrameEstimator> make_frame_estimator(const std::string& method, const core::CameraGeometry& geometry,
+                                                     const HeightConfig& height = {});
+
+/// [height] lasers_file's geometry when source = "lasers" (none otherwise).
+/// Throws std::runtime_error naming the key and the file.
+core::LaserGeometry load_configured_lasers(const HeightConfig& height);
 
 /// Moves a sensor-point velocity to the car's reference point. The sensor
 /// sits at r = (x, y) metres from the reference point (vehicle axes); for a

@@ -66,6 +66,11 @@ struct TruthRecord {
 
 /// camera.json's "lasers" object for `lasers`, as JSON text.
 std::string laser_geometry_json_text(const core::LaserGeometry& lasers);
+/// The laser geometry in `file`: either the "lasers" object itself (what
+/// `gvs calibrate height --out` writes) or a camera.json that holds one.
+/// Throws DatasetError naming the file and what is wrong (unreadable, not
+/// JSON, no beams, a key out of range).
+core::LaserGeometry load_laser_geometry(const std::filesystem::path& file);
 
 /// Parses the `pulses` column ("0:20|400:20", empty = continuous). Throws
 /// std::invalid_argument with a message saying what is wrong.
