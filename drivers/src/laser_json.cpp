@@ -51,7 +51,7 @@ core::LaserGeometry laser_geometry_from_json(const nlohmann::json& j, const std:
     fail("'min_height_mm' must be positive and below 'max_height_mm'");
   if (!j.contains("beams") || !j.at("beams").is_array()) fail("'beams' must be an array");
   const nlohmann::json& beams = j.at("beams");
-  if (beams.size() > core::LaserGeometry::kMaxBeams) fail("at most 3 beams");
+  if (beams.size() > core::LaserGeometry::kMaxBeams) fail("at most " + std::to_string(core::LaserGeometry::kMaxBeams) + " beams");
   g.count = beams.size();
   for (std::size_t k = 0; k < g.count; ++k) {
     const nlohmann::json& o = beams.at(k);

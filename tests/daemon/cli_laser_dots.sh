@@ -13,7 +13,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 # 60 km/h for 1.5 s at 20 fps, double pulse, heave of up to +-5 mm.
 "$gvs" sim --scenario sine --seconds 1.5 --fps 20 --exposure double-pulse --body heave --lasers --out "$work/run" > /dev/null
 grep -q '"lasers"' "$work/run/camera.json" || fail "camera.json lacks the lasers"
-[[ $(grep -c '"tilt_deg"' "$work/run/camera.json") == 3 ]] || fail "camera.json does not hold three beams"
+[[ $(grep -c '"tilt_deg"' "$work/run/camera.json") == 4 ]] || fail "camera.json does not hold four beams"
 grep -q -- '--lasers' "$work/run/camera.json" || fail "camera.json's description does not say --lasers"
 
 "$gvs" replay "$work/run" --out "$work/est.csv" --ride "$work/ride.csv" > /dev/null

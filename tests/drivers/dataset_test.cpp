@@ -246,9 +246,9 @@ TEST(Dataset, LaserGeometryRoundTripsAndOldCameraJsonHasNone) {
     w.write_frame(noise_image(512, 384, 4), r);
   }
   const gvs::core::LaserGeometry back = DatasetReader(written).camera().lasers;
-  ASSERT_EQ(back.count, 3U);
+  ASSERT_EQ(back.count, 4U);
   EXPECT_DOUBLE_EQ(back.spot_sigma_mm, 0.13);
-  for (std::size_t k = 0; k < 3; ++k) {
+  for (std::size_t k = 0; k < 4; ++k) {
     EXPECT_DOUBLE_EQ(back.beams[k].x_mm, cam.lasers.beams[k].x_mm);
     EXPECT_DOUBLE_EQ(back.beams[k].y_mm, cam.lasers.beams[k].y_mm);
     EXPECT_DOUBLE_EQ(back.beams[k].z_mm, cam.lasers.beams[k].z_mm);
@@ -260,6 +260,36 @@ TEST(Dataset, LaserGeometryRoundTripsAndOldCameraJsonHasNone) {
              R"({"format": "gvs-dataset/1", "width": 512, "height": 384, "mm_per_px": 0.1,)"
              R"( "lasers": {"beams": [{"x_mm": 1, "y_mm": 2, "z_mm": -20, "azimuth_deg": 90}]}})");
   expect_error(written, "camera.json: key 'lasers': a beam lacks 'tilt_deg'");
+}
+
+TEST(Dataset, LaserGeometryLoadsFromCalibratesFileOrACameraJson) {
+  // gvsd's [height] lasers_file: the "lasers" object gvs calibrate height
+  // --out writes, or a whole camera.json; a file that cannot be used is named.
+  const fs::path dir = fresh_dir("laser-files");
+  const gvs::core::LaserGeometry design = gvs::core::design_laser_geometry({512, 384, 0.1, 0.0}, 60.0);
+  write_text(dir / "lasers.json", gvs::drivers::laser_geometry_json_text(design));
+  write_text(dir / "camera.json", R"({"format": "gvs-dataset/1", "width": 512, "height": 384, "mm_per_px": 0.1, "lasers": )" +
+                                      gvs::drivers::laser_geometry_json_text(design) + "}");
+  for (const char* name : {"lasers.json", "camera.json"}) {
+    const gvs::core::LaserGeometry g = gvs::drivers::load_laser_geometry(dir / name);
+    ASSERT_EQ(g.count, design.count) << name;
+    EXPECT_DOUBLE_EQ(g.beams[3].azimuth_deg, design.beams[3].azimuth_deg) << name;
+  }
+  auto error_of = [](const fs::path& file) -> std::string {
+    try {
+      (void)gvs::drivers::load_laser_geometry(file);
+    } catch (const DatasetError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_NE(error_of(dir / "none.json").find("none.json: cannot read the laser geometry"), std::string::npos);
+  write_text(dir / "empty.json", R"({"beams": []})");
+  EXPECT_NE(error_of(dir / "empty.json").find("empty.json: key 'lasers': 'beams' is empty"), std::string::npos);
+  write_text(dir / "five.json", R"({"beams": [{}, {}, {}, {}, {}]})");
+  EXPECT_NE(error_of(dir / "five.json").find("at most 4 beams"), std::string::npos);
+  write_text(dir / "text.json", "not json");
+  EXPECT_NE(error_of(dir / "text.json").find("text.json: not JSON"), std::string::npos);
 }
 
 TEST(Dataset, MissingCameraKeyIsNamed) {

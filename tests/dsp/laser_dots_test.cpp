@@ -1,9 +1,11 @@
 // The laser-dot finder (docs/estimator.md, "Height from the laser dots") on
-// simulated frames: height, pitch and roll against the truth; no height
-// when a dot is off the frame or under dirt; the velocity unchanged by the
+// simulated frames: height, pitch and roll against the truth; a dot off the
+// frame or under dirt left out (no height with fewer than three); a bright
+// grain on a track refused by the fourth dot; the velocity unchanged by the
 // dots once they are masked; the ground-plane maths on exact points.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -144,7 +146,7 @@ TEST(LaserDots, HeightPitchAndRollOfSimulatedFrames) {
   EXPECT_LT(e.tilt_max, 0.5);
 }
 
-TEST(LaserDots, ADotOffTheFrameGivesNoHeight) {
+TEST(LaserDots, ADotOffTheFrameLeavesTheOtherThreeOrNoHeight) {
   // Beam 0 moved 30 mm sideways: at the nominal height its dot lands
   // 33 mm left of the centre, outside the 25.6 mm half-width of the view
   // (its track enters the frame above 66 mm).
@@ -158,18 +160,39 @@ TEST(LaserDots, ADotOffTheFrameGivesNoHeight) {
   EXPECT_FALSE(res.dots[0].found);
   EXPECT_TRUE(res.dots[1].found);
   EXPECT_TRUE(res.dots[2].found);
-  EXPECT_FALSE(res.ride.has_height);
-  EXPECT_FALSE(res.ride.has_tilt);
+  EXPECT_TRUE(res.dots[3].found);
+  // The other three fix the plane.
+  ASSERT_TRUE(res.ride.has_height);
+  EXPECT_NEAR(res.ride.height_mm, kNominalMm, 0.1);
+  // A head with three beams has no height without all of them ...
+  drivers::SimulatorConfig c3 = c;
+  c3.lasers.count = 3;
+  drivers::Simulator sim3(c3, standing({0.0, 0.0, 0.0}, 5.0, 0.0));
+  LaserDotFinder finder3(c3.camera, kNominalMm, c3.lasers);
+  sim3.render(3, double_pulse(), f);
+  const LaserDotResult res3 = finder3.find(f.gray);
+  EXPECT_FALSE(res3.dots[0].found);
+  EXPECT_FALSE(res3.ride.has_height);
+  EXPECT_FALSE(res3.ride.has_tilt);
   // ... and higher up, where its dot is in the frame, the height is back.
-  drivers::Simulator high(c, standing({12.0, 0.0, 0.0}, 5.0, 0.0));
+  drivers::Simulator high(c3, standing({12.0, 0.0, 0.0}, 5.0, 0.0));
   high.render(3, double_pulse(), f);
-  const LaserDotResult up = finder.find(f.gray);
+  const LaserDotResult up = finder3.find(f.gray);
   ASSERT_TRUE(up.ride.has_height);
   EXPECT_NEAR(up.ride.height_mm, 72.0, 0.1);
 }
 
-TEST(LaserDots, DirtOverADotGivesNoHeight) {
-  // A smear of mud over dot 1: a dark blot (10 % of the light) 3 mm across.
+/// `gray` with a blot of mud (10 % of the light) 3 mm across at (row, col).
+cv::Mat with_dirt(const cv::Mat& gray, double row, double col) {
+  cv::Mat dirty = gray.clone();
+  for (int r = 0; r < dirty.rows; ++r)
+    for (int c = 0; c < dirty.cols; ++c)
+      if (std::hypot(r - row, c - col) <= 15.0)
+        dirty.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(dirty.at<std::uint8_t>(r, c) / 10);
+  return dirty;
+}
+
+TEST(LaserDots, DirtOverTwoDotsGivesNoHeight) {
   drivers::SimulatorConfig c = laser_config();
   drivers::Simulator sim(c, standing({1.5, 0.5, -0.3}, 8.0, 1.0));
   LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
@@ -178,16 +201,82 @@ TEST(LaserDots, DirtOverADotGivesNoHeight) {
   const LaserDotResult clean = finder.find(f.gray);
   ASSERT_TRUE(clean.ride.has_height) << "the clean frame must measure";
   EXPECT_NEAR(clean.ride.height_mm, 61.5, 0.1);
-  cv::Mat dirty = f.gray.clone();
-  const cv::Point centre(static_cast<int>(clean.dots[1].col), static_cast<int>(clean.dots[1].row));
-  cv::Mat blot = cv::Mat::zeros(dirty.size(), CV_8UC1);
-  for (int r = 0; r < dirty.rows; ++r)
-    for (int col = 0; col < dirty.cols; ++col)
-      if (std::hypot(r - centre.y, col - centre.x) <= 15.0)
-        dirty.at<std::uint8_t>(r, col) = static_cast<std::uint8_t>(dirty.at<std::uint8_t>(r, col) / 10);
-  const LaserDotResult res = finder.find(dirty);
-  EXPECT_FALSE(res.dots[1].found);
-  EXPECT_FALSE(res.ride.has_height);
+  // Mud over dot 1: the other three still measure.
+  const cv::Mat one = with_dirt(f.gray, clean.dots[1].row, clean.dots[1].col);
+  const LaserDotResult res1 = finder.find(one);
+  EXPECT_FALSE(res1.dots[1].found);
+  ASSERT_TRUE(res1.ride.has_height);
+  EXPECT_NEAR(res1.ride.height_mm, 61.5, 0.1);
+  // Over dots 1 and 2: two points fix no plane.
+  const cv::Mat two = with_dirt(one, clean.dots[2].row, clean.dots[2].col);
+  const LaserDotResult res2 = finder.find(two);
+  EXPECT_FALSE(res2.dots[2].found);
+  EXPECT_FALSE(res2.ride.has_height);
+}
+
+/// The frame with dot `k` blotted out and a spot as bright painted on its
+/// track `shift_px` further along (towards a higher ground): a grain the
+/// finder takes for the dot.
+cv::Mat with_grain_for_dot(const drivers::SimulatorConfig& c, const cv::Mat& gray, const LaserDot& dot, std::size_t k,
+                           double shift_px) {
+  double r_hi = 0.0, c_hi = 0.0;
+  const core::LaserBeam& b = c.lasers.beams[k];
+  core::head_to_pixel(c.camera, kNominalMm, b.origin_mm() + ((kNominalMm + 5.0 + b.z_mm) / -b.direction().z) * b.direction(),
+                      r_hi, c_hi);
+  const double len = std::hypot(r_hi - dot.row, c_hi - dot.col);
+  const double row = dot.row + shift_px * (r_hi - dot.row) / len;
+  const double col = dot.col + shift_px * (c_hi - dot.col) / len;
+  cv::Mat out = gray.clone();
+  const double background = dot.mask_background_dn;
+  const double peak =
+      gray.at<std::uint8_t>(static_cast<int>(std::lround(dot.row)), static_cast<int>(std::lround(dot.col))) - background;
+  for (int r = 0; r < out.rows; ++r) {
+    for (int cc = 0; cc < out.cols; ++cc) {
+      const double d_dot = std::hypot(r - dot.row, cc - dot.col);
+      const double d_grain = std::hypot(r - row, cc - col);
+      double v = out.at<std::uint8_t>(r, cc);
+      if (d_dot <= 4.0) v = background;                                                      // the dot, gone
+      if (d_grain <= 4.0) v = background + peak * std::exp(-0.5 * d_grain * d_grain / 1.44);  // the grain
+      out.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    }
+  }
+  return out;
+}
+
+TEST(LaserDots, TheFourthDotRefusesABrightGrainTakenForADot) {
+  drivers::SimulatorConfig c = laser_config();
+  drivers::Simulator sim(c, standing({0.0, 0.0, 0.0}, 8.0, 0.0));
+  drivers::SimFrame f;
+  sim.render(4, double_pulse(), f);
+  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
+  core::LaserGeometry three = c.lasers;
+  three.count = 3;
+  LaserDotFinder finder3(c.camera, kNominalMm, three);
+  const LaserDotResult clean = finder.find(f.gray);
+  ASSERT_TRUE(clean.dots[0].found && clean.ride.has_height);
+
+  // 6 px along (0.6 mm of height on that beam alone): three beams make a
+  // plausible plane of it and a wrong height; four do not agree on a plane,
+  // and since the design's dots are symmetric (each set of three leaves the
+  // fourth equally far off) they cannot tell which is wrong: no height.
+  const cv::Mat near = with_grain_for_dot(c, f.gray, clean.dots[0], 0, 6.0);
+  const LaserDotResult res3 = finder3.find(near);
+  ASSERT_TRUE(res3.ride.has_height) << "the grain must pass for the dot, or the test shows nothing";
+  EXPECT_GT(std::abs(res3.ride.height_mm - kNominalMm), 0.15);
+  const LaserDotResult four = finder.find(near);
+  EXPECT_EQ(four.found, 4U);
+  EXPECT_FALSE(four.ride.has_height);
+  EXPECT_FALSE(four.ride.has_tilt);
+
+  // 40 px along: a plane through the grain tilts beyond any car's pitch, so
+  // only the other three make a ground, and they measure it.
+  const cv::Mat far = with_grain_for_dot(c, f.gray, clean.dots[0], 0, 40.0);
+  const LaserDotResult res_far = finder.find(far);
+  EXPECT_FALSE(res_far.dots[0].found);
+  EXPECT_EQ(res_far.dots[0].status, DotStatus::off_plane);
+  ASSERT_TRUE(res_far.ride.has_height);
+  EXPECT_NEAR(res_far.ride.height_mm, kNominalMm, 0.1);
+  EXPECT_FALSE(finder3.find(far).ride.has_height);
 }
 
 TEST(LaserDots, ADarkPatchGivesTheHeightOrNone) {

@@ -30,6 +30,7 @@ struct SimOptions {
   std::string loop_method = "gvs";
   bool force = false;
   bool lasers = false;
+  std::size_t laser_beams = 4;
 };
 
 namespace fs = std::filesystem;
@@ -81,7 +82,7 @@ void run_sim(const SimOptions& o) {
   static const std::map<std::string, drivers::LightLevel> lights = {
       {"normal", drivers::LightLevel::normal}, {"under", drivers::LightLevel::under}, {"over", drivers::LightLevel::over}};
   config.light = lights.at(o.light);
-  if (o.lasers) config.lasers = core::design_laser_geometry(config.camera, config.camera_height_mm);
+  if (o.lasers) config.lasers = core::design_laser_geometry(config.camera, config.camera_height_mm, o.laser_beams);
 
   check_out_folder(o);
   drivers::Simulator sim(config);
@@ -93,7 +94,7 @@ void run_sim(const SimOptions& o) {
   camera.description = "gvs sim --scenario " + config.scenario + " --seed " + std::to_string(config.seed);
   if (config.body != "flat") camera.description += " --body " + config.body;
   if (camera.ground != "procedural") camera.description += " --ground " + camera.ground;
-  if (o.lasers) camera.description += " --lasers";
+  if (o.lasers) camera.description += " --lasers" + (o.laser_beams == 4 ? std::string() : " --laser-beams 3");
   install_stop_signals();  // before the staging folder exists, so Ctrl-C always cleans it up
   StagingFolder staging(o.out);
   drivers::DatasetWriter writer(staging.path(), camera, /*with_truth=*/true,
@@ -211,8 +212,12 @@ void register_sim(CLI::App& app) {
                   "grey photo at MM_PER_PIXEL (default 0.2) laid in randomised, blended tiles")
       ->capture_default_str();
   cmd->add_flag("--lasers", opts->lasers,
-                "Laser dots: the design's three beams at 45 deg (docs/hardware.md, \"Laser dots\"), lit with the "
+                "Laser dots: the design's four beams at 45 deg (docs/hardware.md, \"Laser dots\"), lit with the "
                 "LED; their geometry goes into camera.json");
+  cmd->add_option("--laser-beams", opts->laser_beams,
+                  "With --lasers: 4 (the design), or 3 (the plane without the fourth beam's check)")
+      ->check(CLI::IsMember({3, 4}))
+      ->capture_default_str();
   cmd->add_option("--laser-brightness", opts->config.laser_peak_relative,
                   "Laser dots' peak irradiance over the LED ring's")
       ->check(number_in(0.0, 100.0))

@@ -1,5 +1,6 @@
 // See gvs/dsp/laser_dots.hpp and docs/estimator.md, "Height from the laser dots".
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -28,7 +29,7 @@ LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nomina
   auto fail = [](const std::string& what) {
     throw std::invalid_argument("laser dots: " + what + " (camera.json 'lasers' or gvsd.toml [lasers])");
   };
-  if (!lasers.enabled() || lasers.count > core::LaserGeometry::kMaxBeams) fail("need 1 to 3 beams");
+  if (!lasers.enabled() || lasers.count > core::LaserGeometry::kMaxBeams) fail("need 1 to 4 beams");
   if (!(nominal_height_mm > 0.0)) fail("the nominal height must be positive");
   if (!(lasers.min_height_mm > 0.0 && lasers.max_height_mm > lasers.min_height_mm))
     fail("min_height_mm must be positive and below max_height_mm");
@@ -211,7 +212,7 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
   LaserDotResult out;
   if (gray.type() != CV_8UC1 || gray.rows != camera_.height_px || gray.cols != camera_.width_px) return out;
   for (std::size_t k = 0; k < lasers_.count; ++k) find_one(gray, k, out.dots[k]);
-  if (lasers_.count == 3) resolve(out);
+  if (lasers_.count >= 3) resolve(out);
   for (std::size_t k = 0; k < lasers_.count; ++k)
     if (out.dots[k].found) ++out.found;
   return out;
@@ -219,45 +220,92 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
 
 void LaserDotFinder::resolve(LaserDotResult& out) const {
   // Each dot: found (one choice), contested with two measured candidates
-  // (two choices), else no plane. A plane outside the searched heights, or
+  // (two choices), else absent. A plane outside the searched heights, or
   // tilted beyond max_tilt_deg, is not the ground; a contested dot is
   // resolved when only one of its candidates gives a plausible plane (a
   // rival elsewhere on the track moves the plane by millimetres and
-  // degrees), and left unfound when both do.
-  std::array<std::size_t, 3> choices{};
-  for (std::size_t k = 0; k < 3; ++k) {
+  // degrees), and left unfound when both do. Four dots must also agree on
+  // one plane (max_plane_residual_mm); when they do not, the one set of
+  // three that makes a plausible plane is taken, and with none or several
+  // there is no height. Three dots of a four-beam head make a plane nothing
+  // checks: it is taken only when none of them has a rival (a track with a
+  // grain as bright as a dot is where the wrong planes came from).
+  constexpr std::size_t kMax = core::LaserGeometry::kMaxBeams;
+  std::array<std::size_t, kMax> choices{};
+  unsigned present = 0;  // bit k: dot k has at least one candidate
+  for (std::size_t k = 0; k < lasers_.count; ++k) {
     const LaserDot& d = out.dots[k];
     if (d.found) choices[k] = 1;
     else if (d.status == DotStatus::contested && d.alternatives == 2) choices[k] = 2;
-    else return;
+    if (choices[k] > 0) present |= 1u << k;
   }
   auto point = [&](std::size_t k, std::size_t c) -> const core::Vec3& {
     return out.dots[k].found ? out.dots[k].ground_mm : out.dots[k].candidates[c].ground_mm;
   };
-  std::size_t plausible_count = 0;
-  std::array<std::size_t, 3> pick{};
-  core::RideHeight ride;
-  for (std::size_t a = 0; a < choices[0]; ++a)
-    for (std::size_t b = 0; b < choices[1]; ++b)
-      for (std::size_t c = 0; c < choices[2]; ++c) {
-        const core::RideHeight r = ground_from_points(point(0, a), point(1, b), point(2, c), camera_.mount_yaw_deg);
-        if (!plausible(r)) continue;
-        ++plausible_count;
-        pick = {a, b, c};
-        ride = r;
+  struct Solution {
+    std::size_t count = 0;  ///< acceptable planes
+    unsigned used = 0;
+    std::array<std::size_t, kMax> pick{};
+    core::RideHeight ride;
+  };
+  // Every choice of candidates for the dots in `used` (at most 2^4).
+  auto solve = [&](unsigned used, Solution& best) {
+    std::array<std::size_t, kMax> dots{};
+    std::size_t m = 0;
+    for (std::size_t k = 0; k < kMax; ++k)
+      if (used & (1u << k)) dots[m++] = k;
+    std::size_t combos = 1;
+    for (std::size_t i = 0; i < m; ++i) combos *= choices[dots[i]];
+    if (m == 3 && lasers_.count == 4 && combos > 1) return;  // unchecked, and a rival on a track
+    for (std::size_t combo = 0; combo < combos; ++combo) {
+      std::array<std::size_t, kMax> pick{};
+      std::array<core::Vec3, kMax> p{};
+      for (std::size_t i = 0, rest = combo; i < m; ++i) {
+        pick[dots[i]] = rest % choices[dots[i]];
+        rest /= choices[dots[i]];
+        p[i] = point(dots[i], pick[dots[i]]);
       }
-  if (plausible_count != 1) return;
-  for (std::size_t k = 0; k < 3; ++k) {
+      core::RideHeight r;
+      if (m == 3) {
+        r = ground_from_points(p[0], p[1], p[2], camera_.mount_yaw_deg);
+      } else {
+        double residual_mm = 0.0;
+        r = ground_from_fit(p.data(), m, camera_.mount_yaw_deg, residual_mm);
+        if (residual_mm > thresholds_.max_plane_residual_mm) continue;
+      }
+      if (!plausible(r)) continue;
+      ++best.count;
+      best.used = used;
+      best.pick = pick;
+      best.ride = r;
+    }
+  };
+  const auto present_count = static_cast<std::size_t>(std::popcount(present));
+  if (present_count < 3) return;
+  Solution s;
+  solve(present, s);
+  if (s.count == 0 && present_count == 4) {
+    for (std::size_t drop = 0; drop < 4; ++drop) solve(present & ~(1u << drop), s);
+  }
+  if (s.count != 1) return;
+  for (std::size_t k = 0; k < lasers_.count; ++k) {
     LaserDot& d = out.dots[k];
+    if (!(s.used & (1u << k))) {
+      if (d.found) {  // found, but off the others' plane: a bright grain, still masked
+        d.found = false;
+        d.status = DotStatus::off_plane;
+      }
+      continue;
+    }
     if (d.found) continue;
-    const Candidate& cand = d.candidates[pick[k]];
+    const Candidate& cand = d.candidates[s.pick[k]];
     d.found = true;
     d.status = DotStatus::found;
     d.row = cand.row;
     d.col = cand.col;
     d.ground_mm = cand.ground_mm;
   }
-  out.ride = ride;
+  out.ride = s.ride;
 }
 
 void LaserDotFinder::mask(const LaserDotResult& result, cv::Mat& gray) const {

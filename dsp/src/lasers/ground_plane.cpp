@@ -1,6 +1,7 @@
 // See gvs/dsp/ground_plane.hpp for the maths.
 #include "gvs/dsp/ground_plane.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gvs::dsp {
@@ -18,19 +19,15 @@ bool triangulate(const core::LaserBeam& beam, core::Vec3 sight, core::Vec3& poin
   return t > 0.0;
 }
 
-core::RideHeight ground_from_points(const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
-                                    double mount_yaw_deg) {
+namespace {
+
+/// Height where the optical axis meets the plane through `p` with unit
+/// normal `n` (n.z > 0), and its pitch and roll in vehicle axes.
+core::RideHeight ground_from_normal(core::Vec3 n, const core::Vec3& p, double mount_yaw_deg) {
   core::RideHeight ride;
-  core::Vec3 n = core::cross(p2 - p1, p3 - p1);
-  const double len = std::sqrt(core::dot(n, n));
-  // Points in a line (or on top of each other): no plane.
-  const double span = std::sqrt(core::dot(p2 - p1, p2 - p1) * core::dot(p3 - p1, p3 - p1));
-  if (!(len > 1e-3 * span) || !(span > 0.0)) return ride;
-  n = (1.0 / len) * n;
-  if (n.z < 0.0) n = -1.0 * n;
   if (!(n.z > 0.1)) return ride;  // a "ground" steeper than 84 deg is not the ground
   ride.has_height = true;
-  ride.height_mm = -core::dot(n, p1) / n.z;
+  ride.height_mm = -core::dot(n, p) / n.z;
   // Head axes -> vehicle axes: turned by the mount yaw about z.
   const double m = core::deg_to_rad(mount_yaw_deg);
   const double nx = std::cos(m) * n.x - std::sin(m) * n.y;
@@ -39,6 +36,50 @@ core::RideHeight ground_from_points(const core::Vec3& p1, const core::Vec3& p2, 
   ride.pitch_deg = core::rad_to_deg(-std::asin(nx));
   ride.roll_deg = core::rad_to_deg(std::atan2(ny, n.z));
   return ride;
+}
+
+}  // namespace
+
+core::RideHeight ground_from_points(const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
+                                    double mount_yaw_deg) {
+  core::Vec3 n = core::cross(p2 - p1, p3 - p1);
+  const double len = std::sqrt(core::dot(n, n));
+  // Points in a line (or on top of each other): no plane.
+  const double span = std::sqrt(core::dot(p2 - p1, p2 - p1) * core::dot(p3 - p1, p3 - p1));
+  if (!(len > 1e-3 * span) || !(span > 0.0)) return {};
+  n = (1.0 / len) * n;
+  if (n.z < 0.0) n = -1.0 * n;
+  return ground_from_normal(n, p1, mount_yaw_deg);
+}
+
+core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, double mount_yaw_deg,
+                                 double& max_residual_mm) {
+  max_residual_mm = 0.0;
+  if (count < 3) return {};
+  // Normal equations of z = c + a x + b y about the points' mean (better
+  // conditioned): [Sxx Sxy; Sxy Syy] [a; b] = [Sxz; Syz], c = mz - a mx - b my.
+  core::Vec3 mean;
+  for (std::size_t k = 0; k < count; ++k) mean = mean + points[k];
+  mean = (1.0 / static_cast<double>(count)) * mean;
+  double sxx = 0.0, sxy = 0.0, syy = 0.0, sxz = 0.0, syz = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const core::Vec3 d = points[k] - mean;
+    sxx += d.x * d.x;
+    sxy += d.x * d.y;
+    syy += d.y * d.y;
+    sxz += d.x * d.z;
+    syz += d.y * d.z;
+  }
+  const double det = sxx * syy - sxy * sxy;
+  if (!(det > 1e-6 * (sxx + syy) * (sxx + syy))) return {};  // points in a line: no plane
+  const double a = (sxz * syy - syz * sxy) / det;
+  const double b = (syz * sxx - sxz * sxy) / det;
+  const double norm = std::sqrt(a * a + b * b + 1.0);
+  for (std::size_t k = 0; k < count; ++k) {
+    const core::Vec3 d = points[k] - mean;
+    max_residual_mm = std::max(max_residual_mm, std::abs(d.z - a * d.x - b * d.y) / norm);
+  }
+  return ground_from_normal({-a / norm, -b / norm, 1.0 / norm}, mean, mount_yaw_deg);
 }
 
 void correct_velocity(const core::RideHeight& ride, double nominal_height_mm, double& vx_mps, double& vy_mps) {

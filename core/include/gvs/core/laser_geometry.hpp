@@ -11,6 +11,7 @@
 // (s0 = mm_per_px at the nominal height H0; rc, cc the image centre).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -52,7 +53,7 @@ struct LaserBeam {
 /// The head's lasers (none: count = 0) and what the finder needs to know
 /// about their spots.
 struct LaserGeometry {
-  static constexpr std::size_t kMaxBeams = 3;
+  static constexpr std::size_t kMaxBeams = 4;
   std::size_t count = 0;
   std::array<LaserBeam, kMaxBeams> beams{};
   /// Spot on the ground, Gaussian sigma across the beam (1/e^2 radius / 2), mm.
@@ -83,28 +84,31 @@ inline Vec3 pixel_ray(const CameraGeometry& cam, double nominal_height_mm, doubl
   return {-(row - rc) / f, -(col - cc) / f, -1.0};
 }
 
-/// The design's three dots for a camera at its nominal height (docs/hardware.md,
+/// The design's dots for a camera at its nominal height (docs/hardware.md,
 /// "Laser dots"): beams at 45 deg from exits 20 mm below the optical centre,
 /// landing on a level ground at the nominal height at (0.73 X, 0.12 Y),
-/// (-0.73 X, -0.12 Y) and (0, -0.78 Y) (X, Y: half the field of view along
-/// head x and y; 14, 3 / -14, -3 / 0, -20 mm for 512 x 384 px at 0.1 mm/px),
-/// the first two moving along y with the height, the third along x, so that
-/// no two tracks cross between 45 and 80 mm.
-inline LaserGeometry design_laser_geometry(const CameraGeometry& cam, double nominal_height_mm) {
+/// (-0.73 X, -0.12 Y), (0, -0.78 Y) and (0, 0.78 Y) (X, Y: half the field of
+/// view along head x and y; 14, 3 / -14, -3 / 0, -20 / 0, 20 mm for
+/// 512 x 384 px at 0.1 mm/px), the first two moving along y with the height,
+/// the others along x, so that no two tracks cross between 45 and 80 mm
+/// (they pass 16 px apart at the closest). Three fix the plane; the fourth
+/// checks it (a bright grain taken for a dot no longer fits) and stands in
+/// for one that is not found. `beams` = 3 leaves the fourth out.
+inline LaserGeometry design_laser_geometry(const CameraGeometry& cam, double nominal_height_mm, std::size_t beams = 4) {
   const double half_x = 0.5 * cam.height_px * cam.mm_per_px;
   const double half_y = 0.5 * cam.width_px * cam.mm_per_px;
   constexpr double kExitZ = -20.0;
   constexpr double kTilt = 45.0;
   LaserGeometry g;
-  g.count = 3;
+  g.count = std::clamp<std::size_t>(beams, 1, LaserGeometry::kMaxBeams);
   struct Landing {
     double x, y, azimuth_deg;
   };
-  const std::array<Landing, 3> land = {Landing{0.73 * half_x, 0.12 * half_y, -90.0},
-                                       Landing{-0.73 * half_x, -0.12 * half_y, 90.0},
-                                       Landing{0.0, -0.78 * half_y, 180.0}};
+  const std::array<Landing, LaserGeometry::kMaxBeams> land = {
+      Landing{0.73 * half_x, 0.12 * half_y, -90.0}, Landing{-0.73 * half_x, -0.12 * half_y, 90.0},
+      Landing{0.0, -0.78 * half_y, 180.0}, Landing{0.0, 0.78 * half_y, 0.0}};
   const double run = (nominal_height_mm + kExitZ) * std::tan(deg_to_rad(kTilt));  // horizontal travel to the ground
-  for (std::size_t k = 0; k < 3; ++k) {
+  for (std::size_t k = 0; k < g.count; ++k) {
     const double az = deg_to_rad(land[k].azimuth_deg);
     LaserBeam& b = g.beams[k];
     b.x_mm = std::round(100.0 * (land[k].x - run * std::cos(az))) / 100.0;  // as drawn: 0.01 mm

@@ -17,6 +17,12 @@
 //    is the third row of the body's attitude R = Ry(pitch) Rx(roll) (ISO
 //    8855): n = (-sin pitch, cos pitch sin roll, cos pitch cos roll), so
 //        pitch = -asin(n_x),  roll = atan2(n_y, n_z).
+//    Four points over-determine it: fit z = c + a x + b y by least squares
+//    (normal equations; the ground is within a few degrees of level, so z
+//    is a function of x and y), n = (-a, -b, 1) / |(-a, -b, 1)|, H = -c;
+//    each point's distance from the fitted plane,
+//        |z_k - c - a x_k - b y_k| / |(-a, -b, 1)|,
+//    tells whether the four agree (a bright grain taken for a dot does not).
 // 3. Scale. The estimators turn image motion into velocity with the
 //    nominal scale s0 (mm per px at the nominal height H0). A ground point
 //    under the image centre moves in the image by d(a', b') (normalised
@@ -30,6 +36,8 @@
 //    (5 mm in 60 mm: 8 %). The tilt's part is second order at the centre
 //    (1 / cos 1.5 deg - 1 = 0.03 %).
 #pragma once
+
+#include <cstddef>
 
 #include "gvs/core/laser_geometry.hpp"
 #include "gvs/core/ride_height.hpp"
@@ -45,6 +53,13 @@ bool triangulate(const core::LaserBeam& beam, core::Vec3 sight, core::Vec3& poin
 /// has_tilt stay false when the points are (nearly) in a line.
 core::RideHeight ground_from_points(const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
                                     double mount_yaw_deg);
+
+/// Height, pitch and roll from the least-squares plane through `count` (3 or
+/// more) ground points in head axes, and the largest point's distance from
+/// it (`max_residual_mm`). has_height and has_tilt stay false when the
+/// points do not fix a plane.
+core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, double mount_yaw_deg,
+                                 double& max_residual_mm);
 
 /// The scale correction of point 3 above: v = (H / H0) (A / R_zz) v_nominal
 /// (vehicle axes, m/s). `ride` must have has_height; without has_tilt the

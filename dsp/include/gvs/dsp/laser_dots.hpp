@@ -5,10 +5,10 @@
 // (gvs/dsp/ground_plane.hpp). A dot that is not clearly there (off the
 // frame, under dirt, on a dark patch) is not found; one with a rival as
 // bright is found only if just one of the two makes a plausible ground
-// plane with the other dots; without all three there is no height. Three
-// points always make a plane, so a bright grain taken for a dot whose
-// plane is still plausible gives a wrong height (docs/estimator.md,
-// "Wrong dots"); a fourth beam would expose it.
+// plane with the other dots. Three points always make a plane, so with
+// three dots a bright grain taken for a dot whose plane is still plausible
+// gives a wrong height (docs/estimator.md, "Wrong dots"); a fourth beam
+// checks the plane (the four must agree) and stands in for a dot not found.
 //
 // Pure: no I/O, threads or clocks; every buffer is made in the constructor.
 #pragma once
@@ -27,7 +27,7 @@
 namespace gvs::dsp {
 
 /// Why a dot was not found (or `found`).
-enum class DotStatus : std::uint8_t { found, faint, contested, off_track, at_edge, no_track };
+enum class DotStatus : std::uint8_t { found, faint, contested, off_track, at_edge, no_track, off_plane };
 
 /// A measured position of a dot (or of a rival as bright).
 struct Candidate {
@@ -58,7 +58,7 @@ struct LaserDot {
 struct LaserDotResult {
   std::array<LaserDot, core::LaserGeometry::kMaxBeams> dots{};
   std::size_t found = 0;
-  core::RideHeight ride;  ///< has_height / has_tilt only with every dot found and a plausible plane
+  core::RideHeight ride;  ///< has_height / has_tilt only with a plausible plane of at least three dots
 };
 
 class LaserDotFinder {
@@ -90,6 +90,12 @@ class LaserDotFinder {
     /// A plane tilted more than this is not the ground (a wrong dot), deg:
     /// a Formula Student car pitches and rolls by up to about 2 deg.
     double max_tilt_deg = 3.0;
+    /// Four dots agree on one plane when none is further from their
+    /// least-squares plane than this, mm: 5 times the scatter of four good
+    /// dots (about 0.02 mm on the procedural asphalt). With the design's
+    /// symmetric dots each residual is a quarter of one dot's error, so a
+    /// dot 0.4 mm off its ground (4 px along its track) is caught.
+    double max_plane_residual_mm = 0.1;
   };
   [[nodiscard]] const Thresholds& thresholds() const { return thresholds_; }
   void set_thresholds(const Thresholds& t) { thresholds_ = t; }
