@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -63,6 +64,32 @@ TEST(GroundPlane, ExactPointsGiveTheirPlane) {
   // Three points in a line fix no plane.
   const core::RideHeight line = ground_from_points({0, 0, -60}, {10, 0, -60}, {20, 0, -60}, 0.0);
   EXPECT_FALSE(line.has_height);
+}
+
+TEST(GroundPlane, FourPointsFitTheirPlaneAndShowAPointOffIt) {
+  const double h = 58.5, pitch = 1.2, roll = -0.7;
+  const double th = core::deg_to_rad(pitch), ph = core::deg_to_rad(roll);
+  const core::Vec3 n{-std::sin(th), std::cos(th) * std::sin(ph), std::cos(th) * std::cos(ph)};
+  auto on_plane = [&](double x, double y) { return core::Vec3{x, y, -(n.x * x + n.y * y) / n.z - h}; };
+  std::array<core::Vec3, 4> p = {on_plane(14, 3), on_plane(-14, -3), on_plane(0, -20), on_plane(0, 20)};
+  double residual = -1.0;
+  const core::RideHeight r = ground_from_fit(p.data(), 4, 0.0, residual);
+  ASSERT_TRUE(r.has_height && r.has_tilt);
+  EXPECT_NEAR(r.height_mm, h, 1e-9);
+  EXPECT_NEAR(r.pitch_deg, pitch, 1e-9);
+  EXPECT_NEAR(r.roll_deg, roll, 1e-9);
+  EXPECT_NEAR(residual, 0.0, 1e-9);
+  // One point 0.8 mm below its ground: with the design's symmetric dots
+  // every residual is a quarter of it (the plane's normal is within 2 deg
+  // of vertical, so distances and z differences agree to 0.1 %).
+  p[0].z -= 0.8;
+  (void)ground_from_fit(p.data(), 4, 0.0, residual);
+  EXPECT_NEAR(residual, 0.2, 0.002);
+  // Three points: the exact plane, as ground_from_points.
+  const core::RideHeight three = ground_from_fit(p.data() + 1, 3, 0.0, residual);
+  const core::RideHeight exact = ground_from_points(p[1], p[2], p[3], 0.0);
+  EXPECT_NEAR(three.height_mm, exact.height_mm, 1e-9);
+  EXPECT_NEAR(three.pitch_deg, exact.pitch_deg, 1e-9);
 }
 
 TEST(GroundPlane, TriangulationFindsThePointOnTheBeam) {
