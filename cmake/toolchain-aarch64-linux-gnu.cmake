@@ -41,8 +41,11 @@ set(ENV{PKG_CONFIG_DIR} "")
 set(ENV{PKG_CONFIG_LIBDIR} "${GVS_ARM64_SYSROOT}/usr/lib/aarch64-linux-gnu/pkgconfig:${GVS_ARM64_SYSROOT}/usr/share/pkgconfig")
 set(ENV{PKG_CONFIG_SYSROOT_DIR} "${GVS_ARM64_SYSROOT}")
 
-# Test programs (gtest_discover_tests, add_test) run under qemu-user.
+# Test programs (gtest_discover_tests, add_test) and the man pages' --help
+# run under qemu-user.
 find_program(GVS_QEMU_AARCH64 qemu-aarch64)
-if(GVS_QEMU_AARCH64)
-  set(CMAKE_CROSSCOMPILING_EMULATOR "${GVS_QEMU_AARCH64};-L;${GVS_ARM64_SYSROOT}")
+if(NOT GVS_QEMU_AARCH64)
+  message(FATAL_ERROR "qemu-aarch64 not found: the arm64 build runs its tests and writes its man pages "
+    "under it (scripts/install-deps installs qemu-user)")
 endif()
+set(CMAKE_CROSSCOMPILING_EMULATOR "${GVS_QEMU_AARCH64};-L;${GVS_ARM64_SYSROOT}")
