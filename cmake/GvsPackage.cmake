@@ -6,6 +6,10 @@
 # script in /usr/share/gvs/, the docs in /usr/share/doc/gvs/, the manual
 # pages gvs(1) and gvsd(1) in /usr/share/man/man1/. Dependencies
 # come from dpkg-shlibdeps (Debian's own library packages).
+# The arm64 cross build (preset arm64) packages the same files as
+#   (cd build/arm64 && cpack -G DEB)      -> build/arm64/gvs_<version>_arm64.deb
+# with its dependencies from the arm64 libraries' shlibs files
+# (cmake/GvsCrossShlibs.cmake) and the man pages written under qemu-user.
 
 include(GNUInstallDirs)
 
@@ -37,7 +41,7 @@ foreach(program gvs gvsd)
   add_custom_command(OUTPUT ${gvs_man_dir}/${program}.1 ${gvs_man_dir}/${program}.1.gz
     COMMAND ${CMAKE_COMMAND} -E make_directory ${gvs_man_dir}
     COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/cmake/gvs_manpage.py $<TARGET_FILE:${program}>
-            ${gvs_man_dir}/${program}.1
+            ${gvs_man_dir}/${program}.1 ${CMAKE_CROSSCOMPILING_EMULATOR}
     DEPENDS ${program} ${PROJECT_SOURCE_DIR}/cmake/gvs_manpage.py
     COMMENT "Manual page ${program}.1 from ${program} --help"
     VERBATIM)
@@ -58,8 +62,24 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_GENERATOR DEB)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION misc)
-set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd, procps")
+if(CMAKE_CROSSCOMPILING)
+  # The arm64 build (cmake/toolchain-aarch64-linux-gnu.cmake): dpkg-shlibdeps
+  # knows only the host's libraries; the Depends come from the sysroot's
+  # shlibs files instead (cmake/GvsCrossShlibs.cmake, run by cpack).
+  if(NOT CMAKE_SYSTEM_PROCESSOR STREQUAL "aarch64")
+    message(FATAL_ERROR "GvsPackage: cross packaging knows aarch64 (arm64) only, not ${CMAKE_SYSTEM_PROCESSOR}")
+  endif()
+  set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE arm64)
+  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS OFF)
+  find_program(GVS_READELF NAMES aarch64-linux-gnu-readelf readelf REQUIRED)
+  set(CPACK_GVS_READELF "${GVS_READELF}")
+  set(CPACK_GVS_CROSS_SHLIBS "${CMAKE_SYSROOT}/var/lib/gvs-sysroot/shlibs")
+  set(CPACK_GVS_CROSS_BINARIES "${PROJECT_BINARY_DIR}/bin/gvsd" "${PROJECT_BINARY_DIR}/bin/gvs")
+  set(CPACK_PROJECT_CONFIG_FILE "${PROJECT_SOURCE_DIR}/cmake/GvsCrossShlibs.cmake")
+else()
+  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+endif()
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-matplotlib, can-utils")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
   ${PROJECT_SOURCE_DIR}/systemd/debian/postinst

@@ -4,7 +4,9 @@ program's --help and --version, and every subcommand's --help, recursively
 (`PROGRAM SUB --help`, `PROGRAM SUB SUBSUB --help`). Run at build time
 (cmake/GvsPackage.cmake), so the page says what the program says.
 
-usage: gvs_manpage.py PROGRAM OUT.1   (also writes OUT.1.gz, as Debian installs man pages)
+usage: gvs_manpage.py PROGRAM OUT.1 [EMULATOR...]   (also writes OUT.1.gz, as Debian installs man pages)
+EMULATOR: runs PROGRAM when it is built for another architecture (the arm64
+cross build: qemu-aarch64 -L SYSROOT, its CMAKE_CROSSCOMPILING_EMULATOR).
 """
 import gzip
 import os
@@ -15,8 +17,11 @@ import sys
 ITEM = re.compile(r"^  (\S.*?)(?: {2,}(\S.*))?$")  # "  --name TYPE     description"
 
 
+EMULATOR = []
+
+
 def run(cmd):
-    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    r = subprocess.run(EMULATOR + cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:
         sys.exit("gvs_manpage.py: %s exited %d:\n%s" % (" ".join(cmd), r.returncode, r.stdout))
     return r.stdout
@@ -125,6 +130,7 @@ def main(program, out_path):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
+    if len(sys.argv) < 3:
         sys.exit(__doc__)
+    EMULATOR = sys.argv[3:]
     main(sys.argv[1], sys.argv[2])
