@@ -14,31 +14,11 @@ for tool in cpack dpkg-deb dpkg-shlibdeps systemd-analyze; do
   command -v "$tool" >/dev/null || fail "$tool not installed (scripts/install-deps installs it)"
 done
 
-(cd "$build_dir" && cpack -G DEB -B "$work/out" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack -G DEB"; }
-deb=$(ls "$work"/out/gvs_*.deb 2>/dev/null | head -1)
-[[ -f "$deb" ]] || fail "no gvs_*.deb in $work/out"
-echo "package: $(basename "$deb"), $(du -k "$deb" | cut -f1) KiB"
-
-contents=$(dpkg-deb -c "$deb" | awk '{print $NF}')
-for f in ./usr/bin/gvsd ./usr/bin/gvs ./usr/lib/systemd/system/gvsd.service ./usr/lib/sysusers.d/gvsd.conf \
-         ./usr/lib/udev/rules.d/60-gvsd.rules ./etc/gvsd/gvsd.toml ./usr/share/gvs/gvs.dbc \
-         ./usr/share/gvs/gvs_plot.py ./usr/share/doc/gvs/deployment.md ./usr/share/doc/gvs/README.md \
-         ./usr/share/man/man1/gvs.1.gz ./usr/share/man/man1/gvsd.1.gz; do
-  grep -qxF "$f" <<<"$contents" || fail "$f is not in the package"
-done
-depends=$(dpkg-deb -f "$deb" Depends)
-echo "Depends: $depends"
-for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libpng16-16 libspdlog1.10 libgpiod2 systemd procps; do
-  grep -q "$lib" <<<"$depends" || fail "Depends lacks $lib"
-done
-# The lean daemon (issue #22): no image codecs (GDAL, Poppler, HDF5, ... come with
-# them), no libsystemd (gvsd speaks sd_notify itself), no shared toml++.
-for lib in libopencv-imgcodecs libsystemd0 libtomlplusplus; do
-  grep -q "$lib" <<<"$depends" && fail "Depends has $lib"
-done
-dpkg-deb -e "$deb" "$work/control"
-grep -qx /etc/gvsd/gvsd.toml "$work/control/conffiles" || fail "/etc/gvsd/gvsd.toml is not a conffile"
-for s in postinst prerm postrm; do [[ -x "$work/control/$s" ]] || fail "maintainer script $s missing"; done
+source "$(dirname "$0")/package_checks.sh"
+package_build "$build_dir"
+package_check_depends libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libpng16-16 libspdlog1.10 libgpiod2 \
+  systemd procps
+package_check_control
 grep -q systemd-sysusers "$work/control/postinst" || fail "postinst does not create the gvsd user"
 # What the package tells its user names files it ships.
 for doc in $(grep -ohE '/usr/share/doc/gvs/[A-Za-z-]+\.md' "$work/control/postinst" <(dpkg-deb --fsys-tarfile "$deb" |
