@@ -243,6 +243,26 @@ TEST(GvsdMustShow, SimSine10sWithTruth) { must_show_run("truth", "sim:sine", Pac
 /// A 10 s replay dataset (small frames), so stopping is not held up by the
 /// simulator's render of a frame, which cannot be interrupted (50-90 ms on
 /// a loaded 2-core machine): the car's camera source has no such render.
+/// The run `sc` written as a dataset with truth (and its lasers in
+/// camera.json), every frame exposed with `plan` when one is given.
+void write_dataset(const fs::path& dir, const drivers::SimulatorConfig& sc,
+                   const std::optional<core::ExposurePlan>& plan = std::nullopt) {
+  drivers::Simulator sim(sc);
+  if (plan) sim.set_exposure(*plan);
+  drivers::CameraInfo cam;
+  cam.geometry = sc.camera;
+  if (sc.lasers.enabled()) {
+    cam.height_mm = sc.camera_height_mm;
+    cam.lasers = sc.lasers;
+  }
+  drivers::DatasetWriter writer(dir, cam, true);
+  drivers::SimFrame f;
+  while (sim.next(f)) {
+    writer.write_frame(f.gray, f.record);
+    writer.write_truth(f.truth);
+  }
+}
+
 /// `seconds` of sim:sine at 128x96 px written as a dataset with truth.
 void write_sine_dataset(const fs::path& dir, double seconds) {
   drivers::SimulatorConfig sc;
@@ -250,15 +270,7 @@ void write_sine_dataset(const fs::path& dir, double seconds) {
   sc.seconds = seconds;
   sc.camera.width_px = 128;
   sc.camera.height_px = 96;
-  drivers::Simulator sim(sc);
-  drivers::CameraInfo cam;
-  cam.geometry = sc.camera;
-  drivers::DatasetWriter writer(dir, cam, true);
-  drivers::SimFrame f;
-  while (sim.next(f)) {
-    writer.write_frame(f.gray, f.record);
-    writer.write_truth(f.truth);
-  }
+  write_dataset(dir, sc);
 }
 
 fs::path replay_dataset() {
@@ -420,25 +432,12 @@ TEST(Gvsd, LaserDotsOfTheFramesGoOutAsRideHeight) {
   sc.scenario = "const";
   sc.seconds = 1.5;
   sc.lasers = core::design_laser_geometry(sc.camera, sc.camera_height_mm);
-  {
-    drivers::Simulator sim(sc);
-    core::ExposurePlan double_pulse;  // 20 us pulses 400 us apart: the strobe gvsd plans at this speed
-    double_pulse.pulse_count = 2;
-    double_pulse.pulses[0] = {0.0, 20.0};
-    double_pulse.pulses[1] = {400.0, 20.0};
-    double_pulse.exposure_us = 420.0;
-    sim.set_exposure(double_pulse);
-    drivers::CameraInfo cam;
-    cam.geometry = sc.camera;
-    cam.height_mm = sc.camera_height_mm;
-    cam.lasers = sc.lasers;
-    drivers::DatasetWriter writer(dir, cam, true);
-    drivers::SimFrame f;
-    while (sim.next(f)) {
-      writer.write_frame(f.gray, f.record);
-      writer.write_truth(f.truth);
-    }
-  }
+  core::ExposurePlan double_pulse;  // 20 us pulses 400 us apart: the strobe gvsd plans at this speed
+  double_pulse.pulse_count = 2;
+  double_pulse.pulses[0] = {0.0, 20.0};
+  double_pulse.pulses[1] = {400.0, 20.0};
+  double_pulse.exposure_us = 420.0;
+  write_dataset(dir, sc, double_pulse);
   const fs::path cfg =
       write_config("lasers.toml", "[height]\nsource = \"lasers\"\nlasers_file = \"" + (dir / "camera.json").string() + "\"\n");
   const fs::path log = temp_dir() / "lasers.log";
