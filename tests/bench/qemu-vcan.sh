@@ -241,10 +241,9 @@ mkdir -p "$RUN/out"
 EXTRA_APPEND=""
 [[ $SYSTEMD -eq 1 ]] && EXTRA_APPEND=" gvs.systemd=1 systemd.show_status=0 systemd.log_level=warning"
 
-# One boot of the guest. Under software emulation a kernel now and then hangs
-# before it reaches the initramfs (seen once in CI on a loaded machine); that
-# is the emulator, not the command, so a boot that shows no sign of init
-# within BOOT_TIMEOUT seconds is killed and tried once more. A command that
+# One boot of the guest. A kernel under software emulation that has not run
+# the initramfs's init within BOOT_TIMEOUT seconds is hung in the emulator,
+# not in the command: it is killed and booted once more. A command that
 # hangs is never retried.
 boot_guest() {
   rm -f "$RUN/rc" "$RUN/qemu.pid" "$RUN/qemu_rc"

@@ -92,7 +92,7 @@ inline Vec3 pixel_ray(const CameraGeometry& cam, double nominal_height_mm, doubl
 /// 512 x 384 px at 0.1 mm/px), the first two moving along y with the height,
 /// the others along x, so that no two tracks cross between 45 and 80 mm
 /// (they pass 16 px apart at the closest). Three fix the plane; the fourth
-/// checks it (a bright grain taken for a dot no longer fits) and stands in
+/// checks it (a bright grain taken for a dot does not fit) and stands in
 /// for one that is not found. `beams` = 3 leaves the fourth out.
 inline LaserGeometry design_laser_geometry(const CameraGeometry& cam, double nominal_height_mm, std::size_t beams = 4) {
   const double half_x = 0.5 * cam.height_px * cam.mm_per_px;
