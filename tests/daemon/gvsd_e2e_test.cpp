@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -130,11 +131,20 @@ void must_show_run(const std::string& method, const std::string& source, Pace pa
   const double median = quantile(periods, 0.5);
   const double p99 = quantile(deviation, 0.99);
   EXPECT_NEAR(median, 20.0, 0.1);
-  // The target "p99 deviation under 2 ms" is a latency
-  // figure: it is measured by gvsd_latency_bench on a quiet machine and
-  // written in docs/performance.md. Here, with the rest of the suite running
-  // beside it, only a broken schedule (a missed or doubled period) fails.
-  EXPECT_LT(p99, 10.0);
+  // Jitter (the target "p99 deviation under 2 ms") is what spare CPU buys:
+  // gvsd_latency_bench measures it on a quiet machine for
+  // docs/performance.md. Here, beside the rest of the suite, the schedule's
+  // shape is checked: it keeps its phase (lateness never accumulates), and
+  // a period skipped in a stall is one gvsd flagged as a deadline miss.
+  const testing::ScheduleHold hold = testing::schedule_hold(msgs.velocity, 20.0);
+  EXPECT_LT(std::fabs(hold.off_grid_ms), 2.0) << "the schedule drifted by " << hold.phase_step_ms << " ms";
+  EXPECT_GE(hold.whole_periods, 0);
+  if (hold.whole_periods > 0) {
+    const bool flagged = std::any_of(msgs.status.begin(), msgs.status.end(), [](const testing::LoggedMessage& m) {
+      return (m.decoded.status_msg.faults & can::kFaultDeadlineMiss) != 0;
+    });
+    EXPECT_TRUE(flagged) << hold.whole_periods << " period(s) skipped and no status message flagged a deadline miss";
+  }
   const std::vector<double> status_periods = testing::periods_ms(msgs.status);
   EXPECT_NEAR(quantile(status_periods, 0.5), 100.0, 0.5);
 
@@ -214,6 +224,37 @@ void must_show_run(const std::string& method, const std::string& source, Pace pa
   EXPECT_NEAR(dir_max, 8.0, 1.0);
   EXPECT_NEAR(dir_min, -8.0, 1.0);
   fs::remove(log);
+}
+
+/// A log of `n` messages on a 20 ms grid, each moved by `late_ms(k)`.
+template <class Late>
+std::vector<testing::LoggedMessage> grid_log(std::size_t n, const Late& late_ms) {
+  std::vector<testing::LoggedMessage> log(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    log[k].t_ns = static_cast<std::int64_t>((20.0 * static_cast<double>(k) + late_ms(k)) * 1e6);
+  }
+  return log;
+}
+
+// The schedule check of the acceptance run tells load from a broken
+// schedule: late single messages pass, drift and skipped periods do not.
+TEST(ScheduleHold, LatenessOfSingleMessagesKeepsThePhase) {
+  const auto hold = testing::schedule_hold(grid_log(500, [](std::size_t k) { return k % 7 == 3 ? 15.0 : 0.2; }), 20.0);
+  EXPECT_EQ(hold.whole_periods, 0);
+  EXPECT_NEAR(hold.off_grid_ms, 0.0, 1e-6);
+}
+
+TEST(ScheduleHold, ASkippedPeriodMovesThePhaseByOnePeriod) {
+  const auto hold = testing::schedule_hold(grid_log(500, [](std::size_t k) { return k >= 250 ? 20.0 : 0.0; }), 20.0);
+  EXPECT_EQ(hold.whole_periods, 1);
+  EXPECT_NEAR(hold.off_grid_ms, 0.0, 1e-6);
+}
+
+TEST(ScheduleHold, ARelativeScheduleDriftsOffTheGrid) {
+  // Sleeping 20 ms after each send: the send's own 10 us add up.
+  const auto hold =
+      testing::schedule_hold(grid_log(500, [](std::size_t k) { return 0.01 * static_cast<double>(k); }), 20.0);
+  EXPECT_GT(std::fabs(hold.off_grid_ms), 2.0);
 }
 
 // With the real estimator on sim:sine, gvsd's built-in defaults (double-pulse

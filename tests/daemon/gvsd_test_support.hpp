@@ -68,4 +68,31 @@ inline double quantile(std::vector<double> v, double q) {
   return v[std::min(i, v.size() - 1)];
 }
 
+/// How an absolute schedule of period `period_ms` held over a log: its
+/// messages' offsets from the grid t_0 + k * period, compared by median over
+/// the first and the last `window` messages. Scheduling lateness moves single
+/// messages and leaves both medians alone; a schedule that drifts or bursts
+/// moves the median by a fraction of a period; a skipped period (a stall
+/// longer than a period, which gvsd skips and flags) moves it by one period.
+struct ScheduleHold {
+  double phase_step_ms = 0.0;  ///< median offset at the end minus at the start
+  long whole_periods = 0;      ///< phase_step_ms in whole periods (skipped ones)
+  double off_grid_ms = 0.0;    ///< phase_step_ms minus whole_periods * period
+};
+
+inline ScheduleHold schedule_hold(const std::vector<LoggedMessage>& msgs, double period_ms, std::size_t window = 50) {
+  ScheduleHold h;
+  if (msgs.size() < 2 * window) return h;
+  std::vector<double> first, last;
+  for (std::size_t k = 0; k < msgs.size(); ++k) {
+    const double offset_ms = static_cast<double>(msgs[k].t_ns - msgs[0].t_ns) / 1e6 - static_cast<double>(k) * period_ms;
+    if (k < window) first.push_back(offset_ms);
+    if (k >= msgs.size() - window) last.push_back(offset_ms);
+  }
+  h.phase_step_ms = quantile(last, 0.5) - quantile(first, 0.5);
+  h.whole_periods = std::lround(h.phase_step_ms / period_ms);
+  h.off_grid_ms = h.phase_step_ms - static_cast<double>(h.whole_periods) * period_ms;
+  return h;
+}
+
 }  // namespace gvs::daemon::testing
