@@ -16,6 +16,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -405,6 +406,37 @@ class NotifySocket {
   std::string path_;
   int fd_ = -1;
 };
+
+// Memory is locked as it is touched (MCL_ONFAULT, the default): the real-time
+// threads fault while the first frames touch their buffers and code, and not
+// after. Each health line shows each thread's faults and the change.
+TEST(Gvsd, RealTimeThreadsStopFaultingAfterStartUp) {
+  const Child c = spawn({"--source", "replay:" + replay_dataset().string(), "--can", "candump:/dev/null", "--run-for",
+                         "5", "--config", write_config("faults.toml", "[log]\nhealth_interval_s = 1\n").string()},
+                        "faults");
+  ASSERT_EQ(wait_exit(c), 0) << slurp(c.err);
+  const std::string err = slurp(c.err);
+  std::istringstream lines(err);
+  std::string line;
+  std::vector<std::vector<long>> deltas;  // per health line: capture, processing, sender
+  long processing_faults = 0;
+  const std::regex fault(R"(page faults (\d+) \(\+(\d+)\))");
+  while (std::getline(lines, line)) {
+    if (line.find("health:") == std::string::npos) continue;
+    std::vector<long> d;
+    for (auto m = std::sregex_iterator(line.begin(), line.end(), fault); m != std::sregex_iterator(); ++m) {
+      d.push_back(std::stol((*m)[2].str()));
+      if (d.size() == 2) processing_faults = std::stol((*m)[1].str());
+    }
+    ASSERT_EQ(d.size(), 3u) << "capture, processing and sender each show their page faults: " << line;
+    deltas.push_back(d);
+  }
+  ASSERT_GE(deltas.size(), 3u) << err;
+  EXPECT_GT(processing_faults, 0) << "the estimator's first frames touch its buffers for the first time";
+  for (std::size_t i = 2; i < deltas.size(); ++i) {
+    EXPECT_EQ(deltas[i], (std::vector<long>{0, 0, 0})) << "health line " << i << " of\n" << err;
+  }
+}
 
 TEST(Gvsd, NotifiesSystemdReadyStatusWatchdogStopping) {
   NotifySocket sock;

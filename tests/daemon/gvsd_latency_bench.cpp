@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
     _exit(127);
   }
 
-  lock_all_memory();
+  lock_all_memory(c.lock_on_fault);
   auto source = make_frame_source(c);
   auto estimator = make_frame_estimator(method, source->geometry());
   PipelineHooks hooks;

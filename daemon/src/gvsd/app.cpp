@@ -60,7 +60,8 @@ void report_realtime(const Pipeline& pipeline, const DaemonConfig& c, int mlock_
   }
   const bool rt_ok = pipeline.realtime() && mlock_errno == 0;
   const std::string memory = !c.lock_memory ? "memory not locked (configured)"
-                             : mlock_errno == 0 ? "memory locked"
+                             : mlock_errno == 0 ? (c.lock_on_fault ? "memory locked as touched (MCL_ONFAULT)"
+                                                                   : "memory locked whole")
                                                 : fmt::format("mlockall refused: {}", std::strerror(mlock_errno));
   if (rt_ok) {
     spdlog::info("real-time: {}; {}; stacks of {} KiB, {} KiB prefaulted", threads, memory, c.stack_kb,
@@ -159,7 +160,7 @@ int run(const CommandLine& cli) {
                  source->describe(), estimator->name(), sink->description(), config.base_id, config.period_ms,
                  config.status_period_ms, config.staleness_limit_ms, config.min_quality,
                  config.plausibility.max_accel_mps2, config.origin);
-    if (config.lock_memory) mlock_errno = lock_all_memory();
+    if (config.lock_memory) mlock_errno = lock_all_memory(config.lock_on_fault);
     PipelineHooks hooks;
     if (config.run_for_s > 0.0) {
       hooks.max_ticks = static_cast<std::uint64_t>(config.run_for_s * 1000.0 / config.period_ms + 0.5);

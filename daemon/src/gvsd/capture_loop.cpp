@@ -23,8 +23,11 @@ void Pipeline::capture_loop() noexcept {
   const double fps = source_->nominal_fps();
   const std::int64_t period_ns = fps > 0.0 ? static_cast<std::int64_t>(1e9 / fps) : 100 * drivers::kNsPerMs;
 
+  const std::uint64_t faults_before_loop = thread_page_faults();
+
   while (!stop_.load(std::memory_order_relaxed)) {
     bump(counters_.capture_heartbeat);
+    counters_.capture_page_faults.store(thread_page_faults() - faults_before_loop, std::memory_order_relaxed);
 
     // Closed-loop exposure: the newest plan from the processing thread.
     const std::uint64_t version = exposure_request_.version();

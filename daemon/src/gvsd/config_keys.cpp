@@ -278,7 +278,12 @@ const std::array kKeys{
               .max = 1023, .reload = restart, .help = "the M of pwmM", .only_when = "driver = \"pwm\""},
     // [threads]
     ConfigKey{.section = "threads", .name = "lock_memory", .field = GVS_FIELD(lock_memory), .reload = restart,
-              .help = "mlockall(MCL_CURRENT | MCL_FUTURE)"},
+              .help = "mlockall(MCL_CURRENT | MCL_FUTURE): no page of gvsd is ever swapped out or dropped"},
+    ConfigKey{.section = "threads", .name = "lock_on_fault", .field = GVS_FIELD(lock_on_fault), .reload = restart,
+              .help = "lock pages as they are first touched (MCL_ONFAULT) instead of making every mapping resident "
+                      "whole: the libraries' code gvsd never runs stays out of RAM; a page first touched after "
+                      "start-up faults once, counted as the thread's `page faults` in the health line",
+              .only_when = "lock_memory = true"},
     ConfigKey{.section = "threads", .name = "stack_kb", .field = GVS_FIELD(stack_kb), .min = 128, .max = 16384,
               .unit = "KiB", .reload = restart,
               .help = "stack of the threads gvsd and libcamera start (glibc's default is RLIMIT_STACK, 8 MiB, "

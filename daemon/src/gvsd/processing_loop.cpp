@@ -28,8 +28,11 @@ void Pipeline::processing_loop() noexcept {
   std::uint64_t published = 0;
   core::ExposurePlan plan = exposure_request_.read();
 
+  const std::uint64_t faults_before_loop = thread_page_faults();
+
   while (!stop_.load(std::memory_order_relaxed)) {
     bump(counters_.processing_heartbeat);
+    counters_.processing_page_faults.store(thread_page_faults() - faults_before_loop, std::memory_order_relaxed);
     std::uint64_t skipped = 0;
     drivers::FrameSlot* slot = ring_.take_newest(skipped);
     if (slot == nullptr) {

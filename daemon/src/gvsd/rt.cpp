@@ -4,6 +4,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 
 #include <cerrno>
 #include <cstring>
@@ -39,9 +40,16 @@ ThreadRtReport setup_this_thread(const ThreadConfig& config, int prefault_stack_
   return r;
 }
 
-int lock_all_memory() noexcept {
-  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) return errno;
+int lock_all_memory(bool on_fault) noexcept {
+  const int flags = MCL_CURRENT | MCL_FUTURE | (on_fault ? MCL_ONFAULT : 0);
+  if (mlockall(flags) != 0) return errno;
   return 0;
+}
+
+std::uint64_t thread_page_faults() noexcept {
+  rusage usage{};
+  if (getrusage(RUSAGE_THREAD, &usage) != 0) return 0;
+  return static_cast<std::uint64_t>(usage.ru_minflt) + static_cast<std::uint64_t>(usage.ru_majflt);
 }
 
 int set_thread_memory_defaults(int stack_kb) noexcept {

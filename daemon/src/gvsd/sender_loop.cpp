@@ -88,10 +88,13 @@ void Pipeline::sender_loop() noexcept {
   status_last_ = snapshot(counters_);
   std::int64_t next_ns = drivers::mono_now_ns() + period_ns;
 
+  const std::uint64_t faults_before_loop = thread_page_faults();
+
   for (;;) {
     drivers::sleep_until_ns(next_ns);
     const std::int64_t woke_ns = drivers::mono_now_ns();
     bump(counters_.sender_heartbeat);
+    counters_.sender_page_faults.store(thread_page_faults() - faults_before_loop, std::memory_order_relaxed);
     const PublishedEstimate latest = latest_.read();
 
     if (stop_.load(std::memory_order_relaxed)) {  // tell the ECU we are going

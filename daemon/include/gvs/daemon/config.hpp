@@ -109,6 +109,7 @@ struct DaemonConfig {
   ThreadConfig processing_thread{70, -1};
   ThreadConfig sender_thread{90, -1};
   bool lock_memory = true;
+  bool lock_on_fault = true;
   int stack_kb = 1024;
   int prefault_stack_kb = 256;
 

@@ -50,6 +50,8 @@ enum class HealthShow : std::uint8_t {
     "frames delivered more than a period late")                                                                   \
   X(exposure_updates, std::uint64_t, capture, exposure, value, "exposure updates {v}", "plans",                    \
     "exposure plans applied to the source")                                                                       \
+  X(capture_page_faults, std::uint64_t, capture, capture, delta, "page faults {v}", "faults",                      \
+    "page faults of the capture thread in its loop (a page first touched, or one not locked)")                    \
   X(capture_heartbeat, std::uint64_t, capture, none, hidden, "", "attempts", "capture loop progress (watchdog)")   \
   X(light_plans, std::uint64_t, capture, light, value, "{v} plans", "frames",                                      \
     "frames whose exposure plan the [light] driver fired")                                                        \
@@ -74,6 +76,8 @@ enum class HealthShow : std::uint8_t {
     "held back by the plausibility gate")                                                                         \
   X(processing_max_ns, std::int64_t, processing, processing, value, "max {ms:.2f} ms", "ns",                       \
     "longest estimate so far")                                                                                    \
+  X(processing_page_faults, std::uint64_t, processing, processing, delta, "page faults {v}", "faults",             \
+    "page faults of the processing thread in its loop")                                                           \
   X(processing_heartbeat, std::uint64_t, processing, none, hidden, "", "loops",                                    \
     "processing loop progress (watchdog)")                                                                        \
   X(frames_sent, std::uint64_t, sender, can, value, "{v} frames sent", "CAN frames", "CAN frames written")         \
@@ -86,6 +90,8 @@ enum class HealthShow : std::uint8_t {
   X(missed_ticks, std::uint64_t, sender, can, value, "missed periods {v}", "periods", "whole periods skipped")     \
   X(wakeup_late_max_ns, std::int64_t, sender, can, value, "max lateness {ms:.3f} ms", "ns",                        \
     "latest wake-up so far")                                                                                      \
+  X(sender_page_faults, std::uint64_t, sender, can, delta, "page faults {v}", "faults",                            \
+    "page faults of the CAN sender thread in its loop")                                                           \
   X(sender_ticks, std::uint64_t, sender, none, hidden, "", "periods", "periods the sender ran")                    \
   X(sender_heartbeat, std::uint64_t, sender, none, hidden, "", "periods", "sender loop progress (watchdog)")
 

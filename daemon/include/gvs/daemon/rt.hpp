@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "gvs/daemon/config.hpp"
@@ -26,8 +27,14 @@ ThreadRtReport setup_this_thread(const ThreadConfig& config, int prefault_stack_
 /// Touches `bytes` of stack below the caller so later page faults cannot occur there.
 void prefault_stack(std::size_t bytes) noexcept;
 
-/// mlockall(MCL_CURRENT | MCL_FUTURE); returns 0 or errno.
-int lock_all_memory() noexcept;
+/// mlockall(MCL_CURRENT | MCL_FUTURE), with MCL_ONFAULT when `on_fault`
+/// (pages are locked as they are first touched, so mapped code and buffers
+/// never touched take no RAM); returns 0 or errno.
+int lock_all_memory(bool on_fault) noexcept;
+
+/// Page faults (minor + major) of the calling thread so far
+/// (getrusage(RUSAGE_THREAD)); 0 if the kernel refuses.
+std::uint64_t thread_page_faults() noexcept;
 
 /// Process-wide, before gvsd starts a thread (mlockall locks every mapping
 /// whole, so address space reserved is memory held):
