@@ -229,7 +229,8 @@ TEST(AllocationCounter, CountsAnAllocationOnAMarkedThread) {
   EXPECT_EQ(g_allocations.load(), 3u);  // new vector object, its buffer, malloc
 }
 
-// Capture (a replayed dataset, decoded at start-up, copied into the ring),
+// Capture (a replayed dataset, decoded ahead by the source's own decoder
+// thread, which is not a real-time thread, and copied into the ring),
 // processing and sender with the "truth" estimator: the daemon's own paths.
 // (The simulator source is a desk tool, not the car's capture path: it
 // allocates while rendering; see docs/daemon.md.)

@@ -220,6 +220,7 @@ int run(const CommandLine& cli) {
     if (pipeline->source_ended()) stop_reason = "end of the source";
 
     log_sink_events(*pipeline);
+    for (const std::string& line : pipeline->take_source_log_lines()) spdlog::warn("{}", line);
     if (watchdog && now >= next_watchdog_ns) {
       if (watchdog_gate.should_feed(pipeline->progress())) notify_service_manager("WATCHDOG=1");
       next_watchdog_ns = now + watchdog_every_ns;
@@ -243,6 +244,7 @@ int run(const CommandLine& cli) {
   pipeline->request_stop();
   pipeline->join();
   log_sink_events(*pipeline);
+  for (const std::string& line : pipeline->take_source_log_lines()) spdlog::warn("{}", line);
   const HealthSnapshot h = snapshot(pipeline->counters());
   spdlog::info("{}", format_health_line(h, last_health, pipeline->latest(), drivers::mono_now_ns(),
                                         static_cast<double>(drivers::mono_now_ns() - last_health_ns) / 1e9));

@@ -114,9 +114,10 @@ const std::array kKeys{
     ConfigKey{.section = "source", .name = "sim_body", .field = GVS_FIELD(sim_body), .allowed = sim_bodies,
               .reload = restart,
               .help = "the simulated car's body motion: flat, heave (+-5 mm at 1-5 Hz) or ride (heave, pitch, roll, a kerb)"},
-    ConfigKey{.section = "source", .name = "replay_preload_limit_mb", .field = GVS_FIELD(replay_preload_limit_mb),
-              .min = 1, .max = 65536, .unit = "MiB", .reload = restart,
-              .help = "replay decodes every frame into memory at start-up, at most this much"},
+    ConfigKey{.section = "source", .name = "replay_window_mb", .field = GVS_FIELD(replay_window_mb), .min = 1,
+              .max = 4096, .unit = "MiB", .reload = restart,
+              .help = "replay: frames decoded ahead of the capture thread (at least 4), by a decoder thread at "
+                      "normal scheduling"},
     // [can]
     ConfigKey{.section = "can", .name = "uri", .field = GVS_FIELD(can_uri), .reload = restart,
               .help = "CAN output: socketcan:IFACE | candump:PATH (--can overrides it)"},

@@ -87,8 +87,8 @@ std::unique_ptr<drivers::FrameSource> make_frame_source(const DaemonConfig& conf
     }
   }
   if (u.scheme == "replay") {
-    auto replay = std::make_unique<drivers::ReplaySource>(u.rest, config.replay_preload_limit_mb);
-    for (const std::string& w : replay->load_warnings()) spdlog::warn("{}", w);
+    auto replay = std::make_unique<drivers::ReplaySource>(u.rest, config.replay_window_mb);
+    for (const std::string& w : replay->take_log_lines()) spdlog::warn("{}", w);
     return replay;
   }
   try {
@@ -112,7 +112,7 @@ core::CameraGeometry check_frame_source(const DaemonConfig& config) {
     }
     return config.camera;
   }
-  if (u.scheme == "replay") return drivers::ReplaySource::check(u.rest, config.replay_preload_limit_mb);
+  if (u.scheme == "replay") return drivers::ReplaySource::check(u.rest);
   try {
     (void)libcamera_settings(config, u.rest);
   } catch (const std::runtime_error& e) {

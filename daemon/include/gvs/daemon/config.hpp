@@ -61,7 +61,7 @@ struct DaemonConfig {
   std::int64_t sim_seed = 1;
   std::string sim_body = "flat";  ///< flat | heave | ride (drivers::body_motion_names)
   std::string sim_ground = "procedural";  ///< or "photo:FILE[:MM_PER_PIXEL]" (drivers::sim::parse_ground)
-  double replay_preload_limit_mb = 2048.0;
+  double replay_window_mb = 16.0;
 
   // [can]
   std::string can_uri = "candump:-";

@@ -120,6 +120,8 @@ class Pipeline {
   /// Valid after join().
   [[nodiscard]] const SenderRecords& records() const noexcept { return records_; }
   [[nodiscard]] const drivers::FrameSource& source() const noexcept { return *source_; }
+  /// Main thread: the source's lines to log (FrameSource::take_log_lines).
+  std::vector<std::string> take_source_log_lines() { return source_->take_log_lines(); }
   [[nodiscard]] std::string_view sink_description() const noexcept { return sink_->description(); }
   /// The [light] driver ("none" without one).
   [[nodiscard]] std::string light_description() const { return light_ ? light_->describe() : "none"; }

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <string>
+#include <vector>
 
 #include "gvs/drivers/frame_slot.hpp"
 #include "gvs/core/frame.hpp"
@@ -53,6 +54,9 @@ class FrameSource {
   /// Main thread: the source's own counters for the health line ("" when
   /// it has none).
   [[nodiscard]] virtual std::string health_text() const { return {}; }
+  /// Main thread: lines to log as warnings that came up since the last
+  /// call (a replay's frame that could not be decoded), each once.
+  virtual std::vector<std::string> take_log_lines() { return {}; }
 };
 
 }  // namespace gvs::drivers
