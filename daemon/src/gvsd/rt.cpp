@@ -54,6 +54,7 @@ std::uint64_t thread_page_faults() noexcept {
 
 int set_thread_memory_defaults(int stack_kb) noexcept {
   (void)mallopt(M_ARENA_MAX, 1);
+  (void)mallopt(M_MMAP_THRESHOLD, 256 * 1024);
   pthread_attr_t attr;
   if (const int e = pthread_getattr_default_np(&attr); e != 0) return e;
   int e = pthread_attr_setstacksize(&attr, static_cast<std::size_t>(stack_kb) * 1024U);

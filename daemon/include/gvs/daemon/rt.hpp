@@ -42,6 +42,9 @@ std::uint64_t thread_page_faults() noexcept;
 ///    allocates an arena of its own, reserving 64 MiB of address space each;
 ///    gvsd's threads do not allocate in their loops, so they need no arena
 ///    of their own;
+///  - a fixed mmap threshold (256 KiB): a large buffer freed at start-up
+///    (the simulator's texture before its tile) goes back to the kernel
+///    instead of staying in the heap, resident and locked;
 ///  - threads started from here on (gvsd's, libcamera's) get `stack_kb`
 ///    stacks, not glibc's default of RLIMIT_STACK (8 MiB), which mlockall
 ///    would make resident whole.
