@@ -344,6 +344,40 @@ TEST(Gvsd, SigtermStopsCleanlyWithin100Milliseconds) {
   std::printf("[ figures  ] SIGTERM to exit: %.1f ms\n", took_ms);
 }
 
+// Every thread blocks the stop and reload signals, also those gvsd does not
+// start itself (a replay's decoder here): the kernel gives a process's signal
+// to any thread that does not block it, and SIGTERM's default action there
+// would end gvsd without its Stopping message.
+TEST(Gvsd, EveryThreadBlocksTheStopAndReloadSignals) {
+  const fs::path log = temp_dir() / "sigmask.log";
+  const fs::path cfg = write_config("sigmask.toml", "[source]\nreplay_window_mb = 1\n");  // the decoder keeps running
+  const Child c = spawn({"--config", cfg.string(), "--source", "replay:" + replay_dataset().string(), "--can",
+                         "candump:" + log.string()},
+                        "sigmask");
+  const std::int64_t deadline = drivers::mono_now_ns() + 30 * drivers::kNsPerS;
+  while (read_candump_log(log.string()).velocity.size() < 10 && drivers::mono_now_ns() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  constexpr unsigned long long kStopAndReload = (1ULL << (SIGTERM - 1)) | (1ULL << (SIGINT - 1)) | (1ULL << (SIGHUP - 1));
+  int threads = 0;
+  for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(c.pid) + "/task")) {
+    // The main thread takes them: sigtimedwait unblocks them while it waits.
+    if (task.path().filename() == std::to_string(c.pid)) continue;
+    std::ifstream status(task.path() / "status");
+    std::string line;
+    while (std::getline(status, line)) {
+      if (line.rfind("SigBlk:", 0) != 0) continue;
+      const unsigned long long blocked = std::stoull(line.substr(7), nullptr, 16);
+      EXPECT_EQ(blocked & kStopAndReload, kStopAndReload) << "thread " << task.path().filename() << ": " << line;
+      ++threads;
+    }
+  }
+  EXPECT_GE(threads, 4) << "capture, processing, sender and the replay's decoder";
+  kill(c.pid, SIGTERM);
+  EXPECT_EQ(wait_exit(c), 0) << slurp(c.err);
+  EXPECT_NE(slurp(c.err).find("stopped (SIGTERM)"), std::string::npos) << slurp(c.err);
+}
+
 TEST(Gvsd, ReplayWithBrokenFramesPlaysOnAndCountsThem) {
   // A 1 s recording with one truncated and one missing frame file: gvsd
   // names both at start-up, plays the rest at its pace, counts 2 rejected.

@@ -147,6 +147,14 @@ int run(const CommandLine& cli) {
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGHUP);
+  // The stop/reload signals are blocked before any thread exists, so every
+  // thread inherits the mask (the RT threads, a replay's decoder, the
+  // camera library's threads) and the main thread takes them with
+  // sigtimedwait: no handler runs on another thread, and a signal that
+  // comes while the main thread is busy never falls to a thread that would
+  // end the process without the Stopping message. One that comes during
+  // start-up waits for the main loop.
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   std::unique_ptr<Pipeline> pipeline;
   int mlock_errno = 0;
@@ -167,6 +175,12 @@ int run(const CommandLine& cli) {
     }
     pipeline = std::make_unique<Pipeline>(config, std::move(source), std::move(estimator), std::move(sink), hooks);
     if (config.light.driver != "none") spdlog::info("gvsd: light and trigger: {}", pipeline->light_description());
+    if (config.align_to_frames) {
+      const auto q = SlotPhaseLock::modulus_ns(config.period_ms * drivers::kNsPerMs, pipeline->source().nominal_fps());
+      spdlog::info("gvsd: CAN slots aligned to the frames: each slot 1 ms after the slowest of the last 32 "
+                   "estimates would be published, modulo {:.2f} ms (the period stays {} ms, each within 0.1 ms)",
+                   static_cast<double>(q.value_or(0)) / 1e6, config.period_ms);
+    }
     if (config.height.source == "can") {
       spdlog::info("gvsd: speed scale: height from CAN ID 0x{:X} on {} over a nominal {} mm (GVS_ScaleSource external "
                    "while its frames arrive)",
@@ -180,11 +194,6 @@ int run(const CommandLine& cli) {
       spdlog::info("gvsd: speed scale: nominal, uncorrected for heave, pitch and roll (no [height] source; "
                    "GVS_FaultScaleUncorrected is set)");
     }
-    // From here on the stop/reload signals are blocked in every thread (the
-    // RT threads inherit the mask) and the main thread takes them with
-    // sigtimedwait, so no handler ever runs on an RT thread. Before this
-    // point a SIGTERM simply ends the process: there is nothing to clean up.
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     pipeline->start();
   } catch (const std::exception& e) {
     spdlog::critical("start-up: {}", describe_exception(e));
