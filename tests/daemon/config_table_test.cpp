@@ -198,6 +198,14 @@ std::string startup_refusal(const std::string& toml) {
 }
 
 TEST(StartupCheck, RefusesWhatStartUpRefuses) {
+  // CAN slots aligned to the frames need rates that lock.
+  EXPECT_NE(startup_refusal("[can]\nalign_to_frames = true\n").find("[can] align_to_frames: the frame rate 60 fps"),
+            std::string::npos)
+      << startup_refusal("[can]\nalign_to_frames = true\n");
+  EXPECT_EQ(startup_refusal("[can]\nalign_to_frames = true\n[source]\nsim_fps = 100.0\n"), "(accepted)");
+  EXPECT_NE(startup_refusal("[can]\nalign_to_frames = true\n[libcamera]\nfps = 90.0\n[source]\nuri = \"libcamera\"\n")
+                .find("90 fps"),
+            std::string::npos);
   EXPECT_NE(startup_refusal("[source]\nuri = \"sim:nonexistent\"\n").find("unknown scenario 'nonexistent'"),
             std::string::npos);
   EXPECT_NE(startup_refusal("[source]\nuri = \"sim:\"\n").find("name a scenario"), std::string::npos);
@@ -235,7 +243,7 @@ TEST(StartupCheck, ReplayTakesTheGeometryFromTheDatasetsIndex) {
   }
   DaemonConfig c;
   c.source_uri = "replay:" + dir.string();
-  const core::CameraGeometry g = check_frame_source(c);
+  const core::CameraGeometry g = check_frame_source(c).geometry;
   EXPECT_EQ(g.width_px, 640) << "the dataset's camera.json, not [camera]";
   EXPECT_EQ(g.height_px, 480);
   std::filesystem::remove_all(dir);

@@ -9,7 +9,10 @@
 // each as median / p99 / max, and runs `cyclictest` beside it for the same
 // time as the machine's reference wake-up latency.
 //
-//   gvsd_latency_bench [SECONDS=30] [ESTIMATOR=gvs] [SCENARIO=sine]
+//   gvsd_latency_bench [SECONDS=30] [ESTIMATOR=gvs] [SCENARIO=sine] [FPS=60] [PERIOD_MS=20] [free|align]
+//
+// `align` sets [can] align_to_frames (the frame rate must then be a multiple
+// or a divisor of the CAN rate, e.g. 100 fps at 20 ms).
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -96,10 +99,17 @@ int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 30.0;
   const std::string method = argc > 2 ? argv[2] : "gvs";
   const std::string scenario = argc > 3 ? argv[3] : "sine";
+  const double fps = argc > 4 ? std::atof(argv[4]) : 60.0;
+  const int period_ms = argc > 5 ? std::atoi(argv[5]) : 20;
+  const bool align = argc > 6 && std::string(argv[6]) == "align";
 
   DaemonConfig c;  // default priorities: capture 80, processing 70, sender 90
   c.source_uri = "sim:" + scenario;
   c.estimator_method = method;
+  c.sim_fps = fps;
+  c.period_ms = period_ms;
+  c.status_period_ms = 100 / period_ms * period_ms;
+  c.align_to_frames = align;
   const std::string log = (std::filesystem::temp_directory_path() / "gvsd_bench.log").string();
   const std::string cyc_out = (std::filesystem::temp_directory_path() / "gvsd_bench_cyclictest.txt").string();
 
@@ -135,8 +145,10 @@ int main(int argc, char** argv) {
 
   const SenderRecords& r = p.records();
   const HealthSnapshot h = snapshot(p.counters());
-  std::printf("gvsd_latency_bench: %.0f s, sim:%s, estimator %s, realtime %s, load: ", seconds, scenario.c_str(),
-              method.c_str(), p.realtime() ? "SCHED_FIFO" : "no");
+  std::printf("gvsd_latency_bench: %.0f s, sim:%s at %.0f fps, estimator %s, CAN every %d ms, slots %s, realtime %s, "
+              "load: ",
+              seconds, scenario.c_str(), fps, method.c_str(), period_ms, align ? "aligned to the frames" : "free",
+              p.realtime() ? "SCHED_FIFO" : "no");
   std::fflush(stdout);
   std::system("cut -d' ' -f1-3 /proc/loadavg");
   print("frame-to-CAN (capture->send)", stats_us({r.frame_to_can_ns.begin(), r.frame_to_can_ns.begin() + static_cast<std::ptrdiff_t>(r.estimates)}));

@@ -127,6 +127,10 @@ const std::array kKeys{
     ConfigKey{.section = "can", .name = "period_ms", .field = GVS_FIELD(period_ms), .min = 4, .max = 100,
               .unit = "ms", .reload = restart,
               .help = "velocity messages, on an absolute schedule (the ECU expects 20)"},
+    ConfigKey{.section = "can", .name = "align_to_frames", .field = GVS_FIELD(align_to_frames), .reload = restart,
+              .help = "move the velocity messages' slots to just after the estimates are published (the period "
+                      "stays period_ms, each within 0.1 ms); needs a frame rate that is a multiple or a divisor "
+                      "of the CAN rate (50 Hz: 25, 50, 100, 250 fps)"},
     ConfigKey{.section = "can", .name = "status_period_ms", .field = GVS_FIELD(status_period_ms), .min = 1,
               .max = 10000, .unit = "ms", .reload = restart, .help = "status and timing messages, a multiple of period_ms"},
     ConfigKey{.section = "can", .name = "staleness_limit_ms", .field = GVS_FIELD(staleness_limit_ms), .min = 1,

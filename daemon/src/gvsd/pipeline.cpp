@@ -54,6 +54,11 @@ Pipeline::Pipeline(const DaemonConfig& config, std::unique_ptr<drivers::FrameSou
   if (config.status_period_ms % config.period_ms != 0) {
     throw std::invalid_argument("Pipeline: status_period_ms must be a multiple of period_ms");
   }
+  if (config.align_to_frames) {
+    const std::string refusal = slot_alignment_refusal(config.period_ms, source_->nominal_fps());
+    if (!refusal.empty()) throw std::invalid_argument(refusal);
+    phase_lock_.emplace(static_cast<std::int64_t>(config.period_ms) * drivers::kNsPerMs, source_->nominal_fps());
+  }
   if (config.height.source == "can") {
     external_height_ = true;
     if (!hooks_.height_samples) {

@@ -123,6 +123,7 @@ void Pipeline::sender_loop() noexcept {
 
     if (latest.sequence != last_sequence) {
       last_sequence = latest.sequence;
+      if (phase_lock_) phase_lock_->on_estimate(latest.captured_ns, latest.published_ns);
       const std::int64_t sent_ns = drivers::mono_now_ns();
       if (records_.estimates < records_.frame_to_can_ns.size()) {
         records_.frame_to_can_ns[records_.estimates] = sent_ns - latest.captured_ns;
@@ -150,6 +151,7 @@ void Pipeline::sender_loop() noexcept {
     }
 
     next_ns += period_ns;
+    if (phase_lock_) next_ns = phase_lock_->adjust(next_ns);
     const std::int64_t now = drivers::mono_now_ns();
     if (next_ns <= now) {  // overslept whole periods: skip them, keep the phase
       const std::int64_t missed = (now - next_ns) / period_ns + 1;

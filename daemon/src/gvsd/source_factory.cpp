@@ -99,7 +99,7 @@ std::unique_ptr<drivers::FrameSource> make_frame_source(const DaemonConfig& conf
   }
 }
 
-core::CameraGeometry check_frame_source(const DaemonConfig& config) {
+CheckedSource check_frame_source(const DaemonConfig& config) {
   const std::string& uri = config.source_uri;
   const SourceUri u = split_source_uri(uri);
   if (u.scheme == "sim") {
@@ -110,15 +110,18 @@ core::CameraGeometry check_frame_source(const DaemonConfig& config) {
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error("source '" + uri + "': " + e.what());
     }
-    return config.camera;
+    return {config.camera, config.sim_fps};
   }
-  if (u.scheme == "replay") return drivers::ReplaySource::check(u.rest);
+  if (u.scheme == "replay") {
+    const drivers::ReplaySource::Checked replay = drivers::ReplaySource::check(u.rest);
+    return {replay.geometry, replay.fps};
+  }
   try {
     (void)libcamera_settings(config, u.rest);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error("source '" + uri + "': " + e.what());
   }
-  return config.camera;
+  return {config.camera, config.libcamera_fps};
 }
 
 }  // namespace gvs::daemon

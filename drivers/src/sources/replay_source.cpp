@@ -23,13 +23,21 @@ void check_index(const std::filesystem::path& folder, const std::vector<FrameRec
   if (records.empty()) throw std::runtime_error(folder.string() + ": the dataset has no frames");
 }
 
+/// Frames per second from the index: frame index steps over time (0 if it cannot tell).
+double dataset_fps(const std::vector<FrameRecord>& records) {
+  if (records.size() < 2) return 0.0;
+  const double span_s = static_cast<double>(records.back().t_ns - records.front().t_ns) / 1e9;
+  const auto steps = static_cast<double>(records.back().index - records.front().index);
+  return span_s > 0.0 && steps > 0.0 ? steps / span_s : 0.0;
+}
+
 }  // namespace
 
-core::CameraGeometry ReplaySource::check(const std::filesystem::path& folder) {
+ReplaySource::Checked ReplaySource::check(const std::filesystem::path& folder) {
   try {
     const DatasetReader reader(folder);
     check_index(folder, reader.frames());
-    return reader.camera().geometry;
+    return {reader.camera().geometry, dataset_fps(reader.frames())};
   } catch (const DatasetError& e) {
     throw std::runtime_error(std::string("replay: ") + e.what());
   }
@@ -50,11 +58,7 @@ ReplaySource::ReplaySource(const std::filesystem::path& folder, double window_mb
       const TruthRecord& t = *it->second;
       truth_[i] = FrameTruth{true, t.vx_mps, t.vy_mps, t.speed_mps, t.direction_deg.value_or(0.0), t.yaw_rate_dps};
     }
-    if (records_.size() >= 2) {
-      const double span_s = static_cast<double>(records_.back().t_ns - records_.front().t_ns) / 1e9;
-      const auto steps = static_cast<double>(records_.back().index - records_.front().index);
-      if (span_s > 0.0 && steps > 0.0) fps_ = steps / span_s;
-    }
+    fps_ = dataset_fps(records_);
   } catch (const DatasetError& e) {
     throw std::runtime_error(std::string("replay: ") + e.what());
   }

@@ -67,6 +67,7 @@ struct DaemonConfig {
   std::string can_uri = "candump:-";
   int period_ms = 20;
   int status_period_ms = 100;
+  bool align_to_frames = false;
   double staleness_limit_ms = 50.0;
   double late_wakeup_limit_ms = 1.0;
   double min_quality = 0.3;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -25,6 +26,7 @@
 #include "gvs/daemon/published_estimate.hpp"
 #include "gvs/daemon/rt.hpp"
 #include "gvs/daemon/seqlock.hpp"
+#include "gvs/daemon/slot_phase_lock.hpp"
 #include "gvs/drivers/spsc_ring.hpp"
 #include "gvs/drivers/wakeup.hpp"
 #include "gvs/drivers/strobe.hpp"
@@ -168,6 +170,7 @@ class Pipeline {
   Seqlock<ExposureSettings> exposure_settings_;  ///< written by the main thread (reload)
   Seqlock<PlausibilityLimits> plausibility_limits_;  ///< written by the main thread (reload)
   PlausibilityGate gate_;  ///< processing thread only
+  std::optional<SlotPhaseLock> phase_lock_;  ///< sender thread only; [can] align_to_frames
   /// [height] source = "can": the distance sensor's frames (unless
   /// hooks_.height_samples stands in) and their history; processing thread only.
   std::unique_ptr<can::HeightReceiver> height_receiver_;

@@ -23,7 +23,11 @@ std::unique_ptr<drivers::FrameSource> make_frame_source(const DaemonConfig& conf
 /// simulator's settings, scenario and ground photo, the replay dataset's
 /// index and memory limit, the libcamera settings. Returns the frames'
 /// geometry; throws std::runtime_error with make_frame_source's message.
-core::CameraGeometry check_frame_source(const DaemonConfig& config);
+struct CheckedSource {
+  core::CameraGeometry geometry;
+  double fps = 0.0;  ///< the frame rate it would run at
+};
+CheckedSource check_frame_source(const DaemonConfig& config);
 
 /// The libcamera source's settings from gvsd's configuration ([camera],
 /// [exposure], [libcamera]); `camera_id` from the source URI.

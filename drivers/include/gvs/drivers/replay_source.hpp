@@ -32,8 +32,12 @@ class ReplaySource final : public FrameSource {
   ReplaySource& operator=(const ReplaySource&) = delete;
 
   /// The constructor's checks of the dataset's index, without decoding a
-  /// frame (gvsd --check-config). Returns the dataset's geometry.
-  static core::CameraGeometry check(const std::filesystem::path& folder);
+  /// frame (gvsd --check-config): the dataset's geometry and frame rate.
+  struct Checked {
+    core::CameraGeometry geometry;
+    double fps = 0.0;
+  };
+  static Checked check(const std::filesystem::path& folder);
 
   [[nodiscard]] std::string describe() const override;
   [[nodiscard]] core::CameraGeometry geometry() const override { return geometry_; }
