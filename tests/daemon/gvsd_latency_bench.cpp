@@ -12,7 +12,9 @@
 //   gvsd_latency_bench [SECONDS=30] [ESTIMATOR=gvs] [SCENARIO=sine] [FPS=60] [PERIOD_MS=20] [free|align]
 //
 // `align` sets [can] align_to_frames (the frame rate must then be a multiple
-// or a divisor of the CAN rate, e.g. 100 fps at 20 ms).
+// or a divisor of the CAN rate, e.g. 100 fps at 20 ms). A SCENARIO with a
+// colon is a source URI (`replay:DIR`: the dataset's own rate; FPS is then
+// ignored).
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -104,7 +106,7 @@ int main(int argc, char** argv) {
   const bool align = argc > 6 && std::string(argv[6]) == "align";
 
   DaemonConfig c;  // default priorities: capture 80, processing 70, sender 90
-  c.source_uri = "sim:" + scenario;
+  c.source_uri = scenario.find(':') == std::string::npos ? "sim:" + scenario : scenario;
   c.estimator_method = method;
   c.sim_fps = fps;
   c.period_ms = period_ms;
@@ -145,10 +147,10 @@ int main(int argc, char** argv) {
 
   const SenderRecords& r = p.records();
   const HealthSnapshot h = snapshot(p.counters());
-  std::printf("gvsd_latency_bench: %.0f s, sim:%s at %.0f fps, estimator %s, CAN every %d ms, slots %s, realtime %s, "
+  std::printf("gvsd_latency_bench: %.0f s, %s at %.0f fps, estimator %s, CAN every %d ms, slots %s, realtime %s, "
               "load: ",
-              seconds, scenario.c_str(), fps, method.c_str(), period_ms, align ? "aligned to the frames" : "free",
-              p.realtime() ? "SCHED_FIFO" : "no");
+              seconds, c.source_uri.c_str(), p.source().nominal_fps(), method.c_str(), period_ms,
+              align ? "aligned to the frames" : "free", p.realtime() ? "SCHED_FIFO" : "no");
   std::fflush(stdout);
   std::system("cut -d' ' -f1-3 /proc/loadavg");
   print("frame-to-CAN (capture->send)", stats_us({r.frame_to_can_ns.begin(), r.frame_to_can_ns.begin() + static_cast<std::ptrdiff_t>(r.estimates)}));
@@ -160,10 +162,11 @@ int main(int argc, char** argv) {
   } else {
     std::printf("cyclictest did not run or printed no histogram (apt-get install rt-tests), status %d\n", status);
   }
-  std::printf("frames captured %llu, processed %llu, dropped %llu, overruns %llu, late wake-ups %llu, missed %llu, "
-              "send errors %llu\n",
+  std::printf("frames captured %llu, processed %llu, skipped %llu, dropped %llu, overruns %llu, late wake-ups %llu, "
+              "missed %llu, send errors %llu\n",
               static_cast<unsigned long long>(h.frames_captured), static_cast<unsigned long long>(h.frames_processed),
-              static_cast<unsigned long long>(h.frames_dropped), static_cast<unsigned long long>(h.ring_overruns),
+              static_cast<unsigned long long>(h.frames_skipped), static_cast<unsigned long long>(h.frames_dropped),
+              static_cast<unsigned long long>(h.ring_overruns),
               static_cast<unsigned long long>(h.late_wakeups), static_cast<unsigned long long>(h.missed_ticks),
               static_cast<unsigned long long>(h.send_errors));
   std::filesystem::remove(log);

@@ -15,30 +15,31 @@
 #include "gvs/drivers/dataset.hpp"
 #include "gvs/drivers/frame_slot.hpp"
 #include "gvs/drivers/replay_source.hpp"
-#include "gvs/drivers/simulator.hpp"
 
 namespace gvs::drivers {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// `frames` of sim:const at 64x48 px and 250 fps (quick to play at pace).
+/// `frames` made-up 64x48 px frames at 250 fps (quick to play at pace; no
+/// simulator, whose OpenCV worker threads TSan cannot see into).
 fs::path write_dataset(const std::string& name, int frames) {
   const fs::path dir = fs::temp_directory_path() / ("gvs_replay_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
-  SimulatorConfig sc;
-  sc.scenario = "const";
-  sc.fps = 250.0;
-  sc.camera.width_px = 64;
-  sc.camera.height_px = 48;
-  Simulator sim(sc);
   CameraInfo cam;
-  cam.geometry = sc.camera;
-  DatasetWriter writer(dir, cam, true);
-  SimFrame f;
-  for (int i = 0; i < frames && sim.next(f); ++i) {
-    writer.write_frame(f.gray, f.record);
-    writer.write_truth(f.truth);
+  cam.geometry.width_px = 64;
+  cam.geometry.height_px = 48;
+  DatasetWriter writer(dir, cam, false);
+  for (int i = 0; i < frames; ++i) {
+    cv::Mat gray(48, 64, CV_8UC1);
+    for (int r = 0; r < gray.rows; ++r) {
+      for (int c = 0; c < gray.cols; ++c) gray.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>((r * 7 + c * 3 + i * 11) % 251);
+    }
+    FrameRecord record;
+    record.index = i;
+    record.t_ns = static_cast<std::int64_t>(i) * 4'000'000;
+    record.exposure.exposure_us = 100.0;
+    writer.write_frame(gray, record);
   }
   return dir;
 }
