@@ -177,7 +177,7 @@ int run(const CommandLine& cli) {
     if (config.light.driver != "none") spdlog::info("gvsd: light and trigger: {}", pipeline->light_description());
     if (config.align_to_frames) {
       const auto q = SlotPhaseLock::modulus_ns(config.period_ms * drivers::kNsPerMs, pipeline->source().nominal_fps());
-      spdlog::info("gvsd: CAN slots aligned to the frames: each slot 1 ms after the slowest of the last 32 "
+      spdlog::info("gvsd: CAN slots aligned to the frames: each slot 1 ms after the second slowest of the last 64 "
                    "estimates would be published, modulo {:.2f} ms (the period stays {} ms, each within 0.1 ms)",
                    static_cast<double>(q.value_or(0)) / 1e6, config.period_ms);
     }

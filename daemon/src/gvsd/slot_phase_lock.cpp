@@ -65,9 +65,17 @@ void SlotPhaseLock::on_estimate(std::int64_t captured_ns, std::int64_t published
 
 std::int64_t SlotPhaseLock::budget_ns() const noexcept {
   const std::size_t n = std::min(delays_, kHistory);
-  std::int64_t longest = 0;
-  for (std::size_t i = 0; i < n; ++i) longest = std::max(longest, publish_delay_ns_[i]);
-  return longest;
+  std::int64_t longest = 0, second = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t d = publish_delay_ns_[i];
+    if (d > longest) {
+      second = longest;
+      longest = d;
+    } else if (d > second) {
+      second = d;
+    }
+  }
+  return n == 1 ? longest : second;
 }
 
 std::int64_t SlotPhaseLock::adjust(std::int64_t next_ns) noexcept {

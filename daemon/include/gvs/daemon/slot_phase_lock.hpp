@@ -8,7 +8,9 @@
 // phase modulo Q = min(frame period, CAN period). The slot that should
 // carry a frame's estimate is at
 //     capture time + budget + margin      (modulo Q),
-// budget = the longest capture-to-publish time of the last 32 estimates.
+// budget = the second longest capture-to-publish time of the last 64
+// estimates: one slow frame (a preemption, a page fault) does not move the
+// slots, two do; a frame slower than the budget goes out in a later slot.
 // The first estimate moves the slots there in one step (only later, never
 // into the past); after that they slew at most `slew_ns` per period, so the
 // ECU sees every period within that of nominal while the lock follows the
@@ -47,11 +49,12 @@ class SlotPhaseLock {
 
   [[nodiscard]] bool locked() const noexcept { return locked_; }
   [[nodiscard]] std::int64_t modulus_ns() const noexcept { return modulus_ns_; }
-  /// The longest capture-to-publish time of the recent estimates.
+  /// The second longest capture-to-publish time of the last 64 estimates
+  /// (the longest while there is only one).
   [[nodiscard]] std::int64_t budget_ns() const noexcept;
 
  private:
-  static constexpr std::size_t kHistory = 32;
+  static constexpr std::size_t kHistory = 64;
   std::int64_t modulus_ns_;
   std::int64_t margin_ns_;
   std::int64_t slew_ns_;
