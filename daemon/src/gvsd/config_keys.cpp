@@ -283,7 +283,7 @@ const std::array kKeys{
               .max = 1023, .reload = restart, .help = "the M of pwmM", .only_when = "driver = \"pwm\""},
     // [threads]
     ConfigKey{.section = "threads", .name = "lock_memory", .field = GVS_FIELD(lock_memory), .reload = restart,
-              .help = "mlockall(MCL_CURRENT | MCL_FUTURE): no page of gvsd is ever swapped out or dropped"},
+              .help = "mlockall(MCL_CURRENT | MCL_FUTURE): no page gvsd has touched is ever swapped out or dropped"},
     ConfigKey{.section = "threads", .name = "lock_on_fault", .field = GVS_FIELD(lock_on_fault), .reload = restart,
               .help = "lock pages as they are first touched (MCL_ONFAULT) instead of making every mapping resident "
                       "whole: the libraries' code gvsd never runs stays out of RAM; a page first touched after "
@@ -292,7 +292,7 @@ const std::array kKeys{
     ConfigKey{.section = "threads", .name = "stack_kb", .field = GVS_FIELD(stack_kb), .min = 128, .max = 16384,
               .unit = "KiB", .reload = restart,
               .help = "stack of the threads gvsd and libcamera start (glibc's default is RLIMIT_STACK, 8 MiB, "
-                      "which locked memory makes resident)"},
+                      "which memory locked whole, lock_on_fault = false, makes resident)"},
     ConfigKey{.section = "threads", .name = "prefault_stack_kb", .field = GVS_FIELD(prefault_stack_kb), .min = 0,
               .max = 8192, .unit = "KiB", .reload = restart, .help = "stack touched by each RT thread before its loop"},
     ConfigKey{.section = "threads.capture", .name = "priority", .field = GVS_FIELD(capture_thread.priority), .min = 0,

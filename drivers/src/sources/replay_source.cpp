@@ -142,7 +142,7 @@ std::string ReplaySource::health_text() const {
   const std::uint64_t waited = waited_for_decoder_.load(std::memory_order_relaxed);
   if (waited == 0) return {};
   return "replay: " + std::to_string(waited) +
-         " frames waited for the decoder (delivered late: the machine is too busy to decode the dataset ahead)";
+         " frames waited for the decoder (delivered late: it fell behind the dataset's pace)";
 }
 
 std::vector<std::string> ReplaySource::take_log_lines() {

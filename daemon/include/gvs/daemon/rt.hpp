@@ -36,8 +36,9 @@ int lock_all_memory(bool on_fault) noexcept;
 /// (getrusage(RUSAGE_THREAD)); 0 if the kernel refuses.
 std::uint64_t thread_page_faults() noexcept;
 
-/// Process-wide, before gvsd starts a thread (mlockall locks every mapping
-/// whole, so address space reserved is memory held):
+/// Process-wide, before gvsd starts a thread (with memory locked whole,
+/// lock_on_fault = false, address space reserved is memory held; locked as
+/// touched, pages touched once stay held):
 ///  - one malloc arena for all threads: glibc gives each new thread that
 ///    allocates an arena of its own, reserving 64 MiB of address space each;
 ///    gvsd's threads do not allocate in their loops, so they need no arena

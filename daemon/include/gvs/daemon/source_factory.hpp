@@ -21,8 +21,9 @@ std::unique_ptr<drivers::FrameSource> make_frame_source(const DaemonConfig& conf
 
 /// The checks make_frame_source runs before it opens a camera: the URI, the
 /// simulator's settings, scenario and ground photo, the replay dataset's
-/// index and memory limit, the libcamera settings. Returns the frames'
-/// geometry; throws std::runtime_error with make_frame_source's message.
+/// index, the libcamera settings. Returns the frames' geometry and the frame
+/// rate the source would run at; throws std::runtime_error with
+/// make_frame_source's message.
 struct CheckedSource {
   core::CameraGeometry geometry;
   double fps = 0.0;  ///< the frame rate it would run at
