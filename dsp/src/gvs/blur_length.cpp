@@ -38,7 +38,8 @@ constexpr double kAxialRollOff = 1.0 / (2.0 * 0.4 * 0.4);  // exp(-(k.u)^2 / (2 
 }  // namespace
 
 StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAxis& axis,
-                                         double min_px, double max_px, double expected_px) {
+                                         double min_px, double max_px, double expected_px,
+                                         double axis_tan) {
   StreakLength out;
   const double n0 = noise_floor(spectrum);
   // Only the columns the inverse DFT reads (DftPlan: 0 .. cols/2; the rest
@@ -66,16 +67,34 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
   const double a0 = static_cast<double>(surface_.at<float>(0, 0));
   if (a0 <= 0.0) return out;
 
-  // Deepest point of A along the ray t*u, t in [min, max] (half a pixel steps).
+  // Deepest point of A along the ray t*u, t in [min, max] (half a pixel
+  // steps). An axis off by an angle a puts the end t*tan(a) px beside the
+  // ray, where a narrow trough is missed: then also across, n = u rotated by
+  // 90 deg, up to t * axis_tan either side.
   double best = 1e30;
   double best_t = 0.0;
+  double best_across = 0.0;
   std::size_t n_ray = 0;  // samples kept in ray_ for the choice below
   for (double t = min_px; t <= max_px; t += 0.5) {
-    const double v = detail::sample_lag(surface_, t * axis.u_row, t * axis.u_col);
-    if (n_ray < ray_.size()) ray_[n_ray++] = v;
+    double v = detail::sample_lag(surface_, t * axis.u_row, t * axis.u_col);
+    double across = 0.0;
+    for (double a = 0.5; a <= t * axis_tan; a += 0.5) {
+      for (const double s : {-a, a}) {
+        const double va = detail::sample_lag(surface_, t * axis.u_row - s * axis.u_col, t * axis.u_col + s * axis.u_row);
+        if (va < v) {
+          v = va;
+          across = s;
+        }
+      }
+    }
+    if (n_ray < ray_.size()) {
+      ray_[n_ray] = v;
+      ray_across_[n_ray++] = across;
+    }
     if (v < best) {
       best = v;
       best_t = t;
+      best_across = across;
     }
   }
   if (best >= 0.0) return out;
@@ -94,6 +113,7 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
           std::abs(t - expected_px) < std::abs(best_t - expected_px)) {
         best = v;  // (the 2-D refinement below starts here)
         best_t = t;
+        best_across = ray_across_[i];
       }
     }
   }
@@ -118,8 +138,8 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
   const auto unwindowed = [this](int dr, int dc) {
     return detail::at_lag(surface_, dr, dc) / overlap_.at(dr, dc);
   };
-  const int r0 = static_cast<int>(std::lround(best_t * axis.u_row));
-  const int c0 = static_cast<int>(std::lround(best_t * axis.u_col));
+  const int r0 = static_cast<int>(std::lround(best_t * axis.u_row - best_across * axis.u_col));
+  const int c0 = static_cast<int>(std::lround(best_t * axis.u_col + best_across * axis.u_row));
   int br = r0;
   int bc = c0;
   double bv_unwindowed = unwindowed(r0, c0);

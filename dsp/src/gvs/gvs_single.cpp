@@ -143,25 +143,29 @@ struct StreakEnd {
 /// False: the length may be such an alias.
 bool not_an_alias(const cv::Mat& gray, const StreakAxis& axis, const StreakLength& len,
                   const StreakSearch& search, const SensorPattern& pattern, bool pattern_out,
-                  SpectrumWorkspace& ws) {
+                  double axis_tan, SpectrumWorkspace& ws) {
   const bool along_rows = std::abs(axis.u_col) * gray.rows < 3.0;
   const bool along_cols = std::abs(axis.u_row) * gray.cols < 3.0;
   const double alias_min_px = 0.15 * (along_rows ? gray.rows : gray.cols);
   if (!(along_rows || along_cols) || len.length_px <= alias_min_px) return true;
   take_spectrum(ws.hann, gray, ws.hann_spectrum, pattern, pattern_out);
-  const StreakLength check = ws.blur.streak_length(ws.hann_spectrum, axis, search.lo_px, search.hi_px, 0.0);
+  const StreakLength check = ws.blur.streak_length(ws.hann_spectrum, axis, search.lo_px, search.hi_px, 0.0, axis_tan);
   // (Its sub-pixel fit divides by the Tukey window's overlap: a few
   // tenths of a pixel off at most, well inside the 3 % agreement.)
   return check.found && std::abs(check.length_px - len.length_px) <= std::max(2.0, 0.03 * len.length_px);
 }
 
-StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, const StreakSearch& search,
-                          const SensorPattern& pattern, bool pattern_out, bool well_lit,
-                          const GvsEstimatorSettings& set, SpectrumWorkspace& ws) {
+StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis_refined,
+                          const StreakSearch& search, const SensorPattern& pattern, bool pattern_out,
+                          bool well_lit, const GvsEstimatorSettings& set, SpectrumWorkspace& ws) {
   StreakEnd end;
   const StreakLength& len = end.length;
+  // An axis not refined may be a few degrees off: the end is looked for
+  // beside the ray too, and its lag then gives the axis (motion_axis).
+  const double axis_tan = axis_refined ? 0.0 : std::tan(set.unrefined_axis_error_deg * kPi / 180.0);
   if (search.hi_px > search.lo_px + 2.0) {
-    end.length = ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, search.expected_px);
+    end.length =
+        ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, search.expected_px, axis_tan);
   }
   // Without a recent speed, the length must also agree with how elongated the
   // spectrum is (anisotropy grows with L: ~0.85 at 40 px, ~0.97 at 150 px on
@@ -188,7 +192,7 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, const Str
   end.has_speed = end.clear && len.length_px >= search.min_length_px &&
                   !(pattern_out && len.length_px > set.dark_max_streak_px);
   if (end.has_speed && cold) {
-    end.has_speed = not_an_alias(gray, axis, len, search, pattern, pattern_out, ws);
+    end.has_speed = not_an_alias(gray, axis, len, search, pattern, pattern_out, axis_tan, ws);
     // An alias's lag is not on the axis either: (frame - L', -d_across).
     end.clear = end.has_speed;
   }
@@ -312,7 +316,7 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   const double m_per_px = cam.mm_per_px * 1e-3;
   const StreakSearch search = streak_search(track.motion, frame.index, t_mid_ns, max_px, t_s, m_per_px, set);
   const StreakEnd end =
-      find_streak_end(frame.gray, axis, search, track.pattern, pattern_out, e.well_lit(), set, ws);
+      find_streak_end(frame.gray, axis, refine, search, track.pattern, pattern_out, e.well_lit(), set, ws);
 
   const Vec2 a = motion_axis(axis, end, pattern_out && refine, line_sharp, cam, set);
   const SignChoice sign = choose_sign(track.motion, a, t_mid_ns, 0.0, set);

@@ -118,9 +118,11 @@ class BlurAnalyzer {
 
   /// Searches min_px <= L <= max_px along `axis`. With expected_px > 0
   /// (a length predicted from a recent speed), of several streak ends at
-  /// least 85 % as deep as the deepest, the one nearest to it.
+  /// least 85 % as deep as the deepest, the one nearest to it. With
+  /// axis_tan > 0 (the tangent of how far the axis may be off), the end is
+  /// looked for up to L * axis_tan px either side of the ray at each L.
   StreakLength streak_length(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
-                             double max_px, double expected_px = 0.0);
+                             double max_px, double expected_px = 0.0, double axis_tan = 0.0);
 
   /// Searches min_px <= |d| <= max_px in every direction.
   DoubleImage double_image(const cv::Mat& spectrum, double min_px, double max_px);
@@ -139,6 +141,7 @@ class BlurAnalyzer {
   WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
   DftPlan inverse_dft_;  ///< planned for `size` at construction
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis
+  std::array<double, 2048> ray_across_{};  ///< ... and how far across it each was taken (px)
 
   cv::Mat ring_;     ///< CV_8U ring of |k| per bin (|k| / kRingWidth, at most 255)
   /// noise_floor()'s bins, per row: columns [first, second) (none: first == second).

@@ -89,6 +89,11 @@ struct GvsEstimatorSettings {
   double dark_max_streak_px = 100.0;  ///< dark frames: longer streaks give no speed (their end is found short)
   double good_texture_snr = 10.0;    ///< full quality from here (normal light: 10-70)
   double refine_min_anisotropy = 0.8; ///< longer streaks: refine the axis on the spectral line
+  /// How far an axis not refined may be off: the ground's own grain tilts a
+  /// weakly elongated spectrum (3 deg on acg_Asphalt025C at 60 px streaks,
+  /// anisotropy 0.76-0.79), and the streak end is then looked for across
+  /// the ray too (BlurAnalyzer::streak_length's axis_tan).
+  double unrefined_axis_error_deg = 5.0;
   /// A clear streak end from this length gives the axis (its lag's direction),
   /// even where it is too short for a speed (below min_streak_px, or
   /// min_streak_px_cold without a recent speed): on the thesis's 20 px frames
