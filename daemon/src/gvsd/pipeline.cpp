@@ -110,13 +110,9 @@ void Pipeline::apply_reloadable(const DaemonConfig& c) noexcept {
 
 void Pipeline::start() {
   if (!threads_.empty()) throw std::logic_error("Pipeline::start called twice");
-  // Let the estimator size its buffers on a frame of the right size, then forget it.
-  spare_.view.t_ns = drivers::mono_now_ns();
-  (void)estimator_->estimate(spare_);
-  spare_.view.t_ns += 16'666'667;
-  spare_.view.index = 1;
-  (void)estimator_->estimate(spare_);
-  estimator_->reset();
+  // The processing thread runs the estimator over these before the first
+  // real frame (warm_up.hpp), then frees them.
+  warm_up_frames_.emplace(source_->geometry());
 
   threads_.reserve(kThreadCount);
   threads_.emplace_back([this] { run_thread(ThreadRole::capture, config_.capture_thread); });
@@ -132,6 +128,13 @@ void Pipeline::run_thread(ThreadRole role, const ThreadConfig& config) {
   // gvsd-sender (at most 15 characters, the kernel's limit).
   (void)pthread_setname_np(pthread_self(), (std::string("gvsd-") + role_name(role)).c_str());
   reports_[static_cast<std::size_t>(role)] = setup_this_thread(config, config_.prefault_stack_kb);
+  if (role == ThreadRole::processing) {
+    // On this thread, at its priority: its own stack is touched too. Drawn
+    // into the spare slot, which the capture thread uses only once every
+    // thread is ready.
+    warm_up(*estimator_, *warm_up_frames_, spare_);
+    warm_up_frames_.reset();
+  }
   if (hooks_.on_loop_start) hooks_.on_loop_start(role);
   threads_ready_.fetch_add(1, std::memory_order_acq_rel);
   // Start together: the sender reads every thread's set-up report.

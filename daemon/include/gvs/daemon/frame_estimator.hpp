@@ -32,6 +32,8 @@ class FrameEstimator {
   [[nodiscard]] virtual core::RejectCounts rejected_frames() const noexcept { return {}; }
   /// Frames whose estimation threw (caught by estimate()).
   [[nodiscard]] std::uint64_t estimator_exceptions() const noexcept { return exceptions_; }
+  /// Back to 0: the warm-up's made-up frames (warm_up.hpp) are not the camera's.
+  void clear_exception_count() noexcept { exceptions_ = 0; }
   [[nodiscard]] virtual std::string name() const = 0;
 
  protected:

@@ -27,6 +27,7 @@
 #include "gvs/daemon/rt.hpp"
 #include "gvs/daemon/seqlock.hpp"
 #include "gvs/daemon/slot_phase_lock.hpp"
+#include "gvs/daemon/warm_up.hpp"
 #include "gvs/drivers/spsc_ring.hpp"
 #include "gvs/drivers/wakeup.hpp"
 #include "gvs/drivers/strobe.hpp"
@@ -164,6 +165,7 @@ class Pipeline {
 
   drivers::SpscRing<drivers::FrameSlot> ring_;
   drivers::FrameSlot spare_;  ///< where the capture thread puts a frame the full ring has no room for
+  std::optional<WarmUpFrames> warm_up_frames_;  ///< made by start(), used and freed by the processing thread
   drivers::Wakeup frame_ready_;
   Seqlock<PublishedEstimate> latest_;
   Seqlock<core::ExposurePlan> exposure_request_;
