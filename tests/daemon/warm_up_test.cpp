@@ -13,11 +13,17 @@
 namespace gvs::daemon {
 namespace {
 
+/// A slot as FrameSource::prepare leaves it: a grey image of the camera's size.
+drivers::FrameSlot prepared_slot(const core::CameraGeometry& camera) {
+  drivers::FrameSlot slot;
+  slot.view.gray.create(camera.height_px, camera.width_px, CV_8UC1);
+  return slot;
+}
+
 TEST(WarmUp, FramesTakeTheEstimatorThroughEachKindOfFrame) {
   const core::CameraGeometry camera;
   WarmUpFrames frames(camera);
-  drivers::FrameSlot slot;
-  slot.view.gray.create(camera.height_px, camera.width_px, CV_8UC1);
+  drivers::FrameSlot slot = prepared_slot(camera);
   const std::unique_ptr<FrameEstimator> estimator = make_frame_estimator("gvs", camera, {});
   std::set<std::string> methods;
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -34,8 +40,7 @@ TEST(WarmUp, FramesTakeTheEstimatorThroughEachKindOfFrame) {
 TEST(WarmUp, LeavesNothingInTheEstimatorsHistory) {
   const core::CameraGeometry camera;
   WarmUpFrames frames(camera);
-  drivers::FrameSlot f;
-  f.view.gray.create(camera.height_px, camera.width_px, CV_8UC1);
+  drivers::FrameSlot f = prepared_slot(camera);
   const std::unique_ptr<FrameEstimator> warmed = make_frame_estimator("gvs", camera, {});
   const std::unique_ptr<FrameEstimator> fresh = make_frame_estimator("gvs", camera, {});
   warm_up(*warmed, frames, f);

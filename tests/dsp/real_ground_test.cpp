@@ -69,8 +69,8 @@ TEST(PhotographedGroundGrain, WeaklyElongatedSpectrumTiltedByTheGrainStillFindsT
   // 60 px streaks with 3 ms, anisotropy 0.76-0.8, axis not refined) it tilts
   // the spectrum's axis by about 3 deg, which puts the streak end 3 px
   // beside the ray along that axis. The end must still be found, not a
-  // weaker dip of the texture on the ray (seed 2, frames 276-305: read 22-42 %
-  // slow and up to 6.5 deg off).
+  // weaker dip of the texture on the ray (a search along the ray alone reads
+  // seed 2's frames 276-305 22-42 % slow and up to 6.5 deg off).
   drivers::SimulatorConfig c;
   c.scenario = "crawl";
   c.seconds = 5.2;
