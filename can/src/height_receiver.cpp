@@ -21,6 +21,7 @@ bool HeightHistory::add(std::int64_t t_ns, double height_mm) noexcept {
   samples_[next_] = {t_ns, height_mm};
   next_ = (next_ + 1) % kCapacity;
   if (count_ < kCapacity) ++count_;
+  ++kept_;
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include "gvs/can/sink.hpp"
 #include "gvs/daemon/config.hpp"
 #include "gvs/daemon/external_height.hpp"
+#include "gvs/daemon/health.hpp"
 #include "gvs/daemon/pipeline.hpp"
 #include "gvs/drivers/clock.hpp"
 #include "gvsd_test_support.hpp"
@@ -121,7 +122,12 @@ struct ScriptedSensor {
   }
 };
 
-testing::CandumpLog run(const char* name, int silent_after, int ticks) {
+struct PipelineRun {
+  testing::CandumpLog msgs;
+  HealthSnapshot health;  ///< at the end (the health line's height part)
+};
+
+PipelineRun run(const char* name, int silent_after, int ticks) {
   const std::string log = temp_log(name);
   PipelineHooks hooks;
   hooks.max_ticks = static_cast<std::uint64_t>(ticks);
@@ -137,13 +143,14 @@ testing::CandumpLog run(const char* name, int silent_after, int ticks) {
   }
   p.request_stop();
   p.join();
-  testing::CandumpLog msgs = testing::read_candump_log(log);
+  PipelineRun r{testing::read_candump_log(log), snapshot(p.counters())};
   std::filesystem::remove(log);
-  return msgs;
+  return r;
 }
 
 TEST(ExternalHeightPipeline, SpeedScaledByTheSensorsHeightAndTheBusSaysExternal) {
-  const testing::CandumpLog msgs = run("on", 1'000'000, 30);
+  const PipelineRun pr = run("on", 1'000'000, 30);
+  const testing::CandumpLog& msgs = pr.msgs;
   ASSERT_EQ(msgs.ride_height.size(), 30u);
   int valid = 0;
   for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
@@ -162,10 +169,17 @@ TEST(ExternalHeightPipeline, SpeedScaledByTheSensorsHeightAndTheBusSaysExternal)
   for (std::size_t i = 1; i < msgs.status.size(); ++i) {
     EXPECT_EQ(msgs.status[i].decoded.status_msg.faults & can::kFaultScaleUncorrected, 0) << "status " << i;
   }
+  // The health line's height part: the sensor's readings (1 kHz, 50 before
+  // the start) and each estimate once, scaled or left nominal (one that
+  // waited longer than the history's 64 ms on a busy machine).
+  EXPECT_GE(pr.health.height_samples, 50u + 300u);
+  EXPECT_GT(pr.health.height_scaled, 0u);
+  EXPECT_EQ(pr.health.height_scaled + pr.health.height_unscaled, pr.health.frames_processed);
 }
 
 TEST(ExternalHeightPipeline, ASilentSensorLeavesTheScaleUncorrectedAndFlagged) {
-  const testing::CandumpLog msgs = run("silent", 0, 30);
+  const PipelineRun pr = run("silent", 0, 30);
+  const testing::CandumpLog& msgs = pr.msgs;
   int valid = 0;
   for (std::size_t i = 0; i < msgs.velocity.size(); ++i) {
     const can::VelocityMsg& v = msgs.velocity[i].decoded.velocity;
@@ -179,6 +193,13 @@ TEST(ExternalHeightPipeline, ASilentSensorLeavesTheScaleUncorrectedAndFlagged) {
   for (std::size_t i = 1; i < msgs.status.size(); ++i) {
     EXPECT_NE(msgs.status[i].decoded.status_msg.faults & can::kFaultScaleUncorrected, 0) << "status " << i;
   }
+  EXPECT_EQ(pr.health.height_samples, 0u);
+  EXPECT_EQ(pr.health.height_scaled, 0u);
+  EXPECT_GT(pr.health.height_unscaled, 20u);
+  EXPECT_EQ(pr.health.height_unscaled, pr.health.frames_processed);
+  const std::string line = format_health_line(pr.health, HealthSnapshot{}, PublishedEstimate{}, 0, 1.0);
+  EXPECT_NE(line.find(" | height 0 samples, read errors 0 (+0), scaled 0 (+0), nominal "), std::string::npos)
+      << "a silent sensor shows in the health line: " << line;
 }
 
 TEST(ExternalHeightConfig, RefusedWithoutAnInterfaceOrWithASignalOutsideTheFrame) {

@@ -39,9 +39,11 @@ TEST(HealthFields, LineShowsEveryDeclaredCounterAsDeclared) {
   }
   EXPECT_GT(shown, 0);
   EXPECT_NE(line.find(" | light "), std::string::npos) << line;
+  EXPECT_NE(line.find(" | height "), std::string::npos) << line;
 
   const std::string quiet = format_health_line(HealthSnapshot{}, HealthSnapshot{}, PublishedEstimate{}, 0, 5.0);
   EXPECT_EQ(quiet.find("light"), std::string::npos) << "no [light] driver ran: " << quiet;
+  EXPECT_EQ(quiet.find("height"), std::string::npos) << "no [height] source = \"can\": " << quiet;
   EXPECT_EQ(quiet.find("last errno"), std::string::npos) << quiet;
   EXPECT_NE(quiet.find("ring overruns 0 (+0)"), std::string::npos) << quiet;
 }

@@ -33,13 +33,13 @@ std::string reject_text(const HealthSnapshot& n, const HealthSnapshot& p) {
 struct GroupInfo {
   HealthGroup group;
   const char* prefix;
-  bool only_when_nonzero;  ///< the light part appears only when a [light] driver ran
+  bool only_when_nonzero;  ///< the light and height parts appear only with a [light] driver or a CAN height
 };
 
 constexpr GroupInfo kGroups[] = {
     {HealthGroup::capture, "capture ", false},  {HealthGroup::processing, "processing ", false},
     {HealthGroup::can, "CAN ", false},          {HealthGroup::exposure, "", false},
-    {HealthGroup::light, "light ", true},
+    {HealthGroup::light, "light ", true},      {HealthGroup::height, "height ", true},
 };
 
 /// One group of the line from the declared counters ("" when it is not shown).

@@ -44,15 +44,21 @@ void Pipeline::processing_loop() noexcept {
     const std::int64_t t0 = drivers::mono_now_ns();
     core::VelocityEstimate e = estimator_->estimate(*slot);
     if (external_height_) {  // the sensor's velocity is scaled first, then moved to the reference point
+      const std::uint64_t kept_before = height_history_.kept();
       if (height_receiver_) {
         height_receiver_->drain(height_history_);
+        counters_.height_read_errors.store(height_receiver_->read_errors(), std::memory_order_relaxed);
       } else {
         hooks_.height_samples(height_history_);
       }
+      bump(counters_.height_samples, height_history_.kept() - kept_before);
       const auto max_gap_ns = static_cast<std::int64_t>(config_.height.max_gap_ms * 1e6);
       if (const std::optional<double> h = height_history_.at(e.t_ns, max_gap_ns)) {
         (void)apply_external_height(e, *h, config_.height.nominal_mm);  // false: nominal scale, flagged
       }
+      // Not counted: an estimate the laser dots scaled (they win).
+      if (e.scale_source == core::ScaleSource::external) bump(counters_.height_scaled);
+      if (e.scale_source == core::ScaleSource::nominal) bump(counters_.height_unscaled);
     }
     apply_lever_arm(e, config_.lever_arm_x_m, config_.lever_arm_y_m);
     const std::int64_t t1 = drivers::mono_now_ns();

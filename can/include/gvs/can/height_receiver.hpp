@@ -27,6 +27,8 @@ class HeightHistory {
   [[nodiscard]] std::optional<double> at(std::int64_t t_ns, std::int64_t max_gap_ns) const noexcept;
 
   [[nodiscard]] std::size_t size() const noexcept { return count_; }
+  /// Samples kept since construction (the health line's count).
+  [[nodiscard]] std::uint64_t kept() const noexcept { return kept_; }
 
  private:
   struct Sample {
@@ -40,6 +42,7 @@ class HeightHistory {
   std::array<Sample, kCapacity> samples_{};
   std::size_t next_ = 0;
   std::size_t count_ = 0;
+  std::uint64_t kept_ = 0;
 };
 
 /// A CAN_RAW socket on `iface` that receives only the signal's message.

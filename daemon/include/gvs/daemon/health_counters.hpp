@@ -21,7 +21,7 @@ inline void raise_max(std::atomic<std::int64_t>& m, std::int64_t v) noexcept {
 }
 
 /// Where a counter is shown in the health line (format_health_line).
-enum class HealthGroup : std::uint8_t { capture, processing, can, exposure, light, none };
+enum class HealthGroup : std::uint8_t { capture, processing, can, exposure, light, height, none };
 
 enum class HealthShow : std::uint8_t {
   value,    ///< the text with the value
@@ -80,6 +80,14 @@ enum class HealthShow : std::uint8_t {
     "page faults of the processing thread in its loop")                                                           \
   X(processing_heartbeat, std::uint64_t, processing, none, hidden, "", "loops",                                    \
     "processing loop progress (watchdog)")                                                                        \
+  X(height_samples, std::uint64_t, processing, height, value, "{v} samples", "samples",                          \
+    "readings of the [height] source = \"can\" distance sensor received")                                         \
+  X(height_read_errors, std::uint64_t, processing, height, delta, "read errors {v}", "reads",                     \
+    "failed reads of the [height] CAN socket")                                                                    \
+  X(height_scaled, std::uint64_t, processing, height, delta, "scaled {v}", "estimates",                           \
+    "estimates scaled by the sensor's height")                                                                    \
+  X(height_unscaled, std::uint64_t, processing, height, delta, "nominal {v}", "estimates",                        \
+    "estimates left at the nominal scale: no reading within [height] max_gap_ms, or one beyond 25 % of nominal")  \
   X(frames_sent, std::uint64_t, sender, can, value, "{v} frames sent", "CAN frames", "CAN frames written")         \
   X(invalid_sent, std::uint64_t, sender, can, delta, "{v} flagged invalid", "messages",                            \
     "velocity messages flagged invalid (stale, no estimate, low quality, implausible)")                           \
