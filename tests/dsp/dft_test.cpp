@@ -39,6 +39,24 @@ TEST_P(DftSizes, ForwardIsCvDftsFullComplexSpectrum) {
   EXPECT_LT(relative_error(spectrum, expected), 1e-5);
 }
 
+TEST_P(DftSizes, HalfForwardWritesTheFullSpectrumsFirstColumnsAndNoOthers) {
+  const cv::Mat image = random_image(GetParam(), 3);
+  cv::Mat full;
+  DftPlan(DftPlan::Direction::forward_real_to_complex, GetParam()).run(image, full);
+  const cv::Scalar untouched(7.0, -7.0);
+  cv::Mat half(GetParam(), CV_32FC2, untouched);
+  DftPlan plan(DftPlan::Direction::forward_real_to_half_complex, GetParam());
+  plan.run(image, half);
+  const int half_cols = GetParam().width / 2 + 1;
+  const cv::Rect written(0, 0, half_cols, GetParam().height);
+  EXPECT_EQ(cv::norm(half(written), full(written), cv::NORM_INF), 0.0) << "the same FFTW output, copied";
+  if (half_cols < GetParam().width) {
+    const cv::Mat rest = half(cv::Rect(half_cols, 0, GetParam().width - half_cols, GetParam().height));
+    EXPECT_EQ(cv::norm(rest, cv::Mat(rest.size(), CV_32FC2, untouched), cv::NORM_INF), 0.0)
+        << "columns past cols/2 written";
+  }
+}
+
 TEST_P(DftSizes, InverseIsCvDftsScaledRealOutput) {
   // Any complex spectrum, not only a real image's: both read the columns
   // 0 .. cols/2. (A single column, which cv::dft transforms as a 1-D signal

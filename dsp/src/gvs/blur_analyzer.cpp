@@ -6,6 +6,7 @@
 #include "gvs/dsp/blur_analysis.hpp"
 #include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/spectrum.hpp"
+#include "search_spans.hpp"
 
 namespace gvs::dsp {
 
@@ -51,6 +52,7 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
   }
   power_ = cv::Mat::zeros(size, CV_32FC2);  // the columns past cols/2 stay 0, never read
   surface_.create(size, CV_32F);
+  row_max_.assign(static_cast<std::size_t>(size.height), 0.0);
   // The noise floor's bins (noise_floor): in each row one run of columns
   // around k_col = +-pi (|k_col| rises to pi at the middle column).
   floor_cols_.assign(static_cast<std::size_t>(size.height), {0, 0});
@@ -77,8 +79,7 @@ double BlurAnalyzer::noise_floor(const cv::Mat& spectrum) const {
   long n = 0;
   for (int r = 0; r < spectrum.rows; ++r) {
     const auto [first, end] = floor_cols_[static_cast<std::size_t>(r)];
-    const auto* f = spectrum.ptr<cv::Vec2f>(r);
-    for (int c = first; c < end; ++c) sum += static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]);
+    detail::for_each_power(spectrum, r, first, end, [&sum](int, float power) { sum += static_cast<double>(power); });
     n += end - first;
   }
   return n > 0 ? sum / static_cast<double>(n) : 0.0;

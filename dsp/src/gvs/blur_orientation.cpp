@@ -14,6 +14,7 @@
 #include <cstdint>
 
 #include "gvs/dsp/blur_analysis.hpp"
+#include "search_spans.hpp"
 
 namespace gvs::dsp {
 
@@ -29,17 +30,24 @@ void BlurAnalyzer::ring_gain(const cv::Mat& spectrum, const StreakAxis* line, do
   RingGain count{};
   for (int r = 0; r < spectrum.rows; ++r) {
     const double kr = k_row_[static_cast<std::size_t>(r)];
-    const auto* f = spectrum.ptr<cv::Vec2f>(r);
     const float* w = band_.ptr<float>(r);
     const auto* rings = ring_.ptr<std::uint8_t>(r);
-    for (int c = 0; c < spectrum.cols; ++c) {
-      const double kc = k_col_[static_cast<std::size_t>(c)];
-      if (w[c] == 0.0f) continue;
-      if (line != nullptr && std::abs(kr * line->u_row + kc * line->u_col) > half_width) continue;
-      const auto ring = static_cast<std::size_t>(rings[c]);
-      if (ring >= sum.size()) continue;
-      sum[ring] += static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]);
-      count[ring] += 1.0;
+    detail::StripColumns columns;
+    if (line != nullptr) {
+      columns = detail::strip_columns(spectrum.cols, kr * line->u_row, line->u_col, half_width);
+    } else {
+      columns.end[0] = spectrum.cols;
+    }
+    for (int run = 0; run < 2; ++run) {
+      detail::for_each_power(spectrum, r, columns.begin[run], columns.end[run], [&](int c, float power) {
+        const double kc = k_col_[static_cast<std::size_t>(c)];
+        if (w[c] == 0.0f) return;
+        if (line != nullptr && std::abs(kr * line->u_row + kc * line->u_col) > half_width) return;
+        const auto ring = static_cast<std::size_t>(rings[c]);
+        if (ring >= sum.size()) return;
+        sum[ring] += static_cast<double>(power);
+        count[ring] += 1.0;
+      });
     }
   }
   const double n0 = noise_floor(spectrum);
@@ -59,23 +67,21 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum, const RingGain* ga
   double noise = 0.0;
   for (int r = 0; r < spectrum.rows; ++r) {
     const double kr = k_row_[static_cast<std::size_t>(r)];
-    const auto* f = spectrum.ptr<cv::Vec2f>(r);
     const float* w = band_.ptr<float>(r);
     const auto* rings = ring_.ptr<std::uint8_t>(r);
     double a_rr = 0.0;
     double a_cc = 0.0;
     double a_rc = 0.0;
-    for (int c = 0; c < spectrum.cols; ++c) {
+    detail::for_each_power(spectrum, r, 0, spectrum.cols, [&](int c, float power) {
       const double kc = k_col_[static_cast<std::size_t>(c)];
-      const double band_power = static_cast<double>(w[c]) *
-          (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
+      const double band_power = static_cast<double>(w[c]) * (static_cast<double>(power) - n0);
       const double p = gain_at(gain, rings, c) * band_power;
       a_cc += p * kc * kc;
       a_rc += p * kc;
       a_rr += p;
       signal += band_power;  // the SNR without the gain
       noise += static_cast<double>(w[c]) * n0;
-    }
+    });
     m_rr += a_rr * kr * kr;
     m_rc += a_rc * kr;
     m_cc += a_cc;
@@ -117,27 +123,32 @@ StreakAxis BlurAnalyzer::refine_axis(const cv::Mat& spectrum, const StreakAxis& 
   const double cap2 = kLineWeightCap * kLineWeightCap;
   const double n0 = noise_floor(spectrum);
   const double inv2s2 = 1.0 / (2.0 * sigma * sigma);
+  const double strip_half_width = std::sqrt(8.0 / inv2s2);
   for (int it = 0; it < iterations; ++it) {
     double m_rr = 0.0;
     double m_cc = 0.0;
     double m_rc = 0.0;
     for (int r = 0; r < spectrum.rows; ++r) {
       const double kr = k_row_[static_cast<std::size_t>(r)];
-      const auto* f = spectrum.ptr<cv::Vec2f>(r);
       const float* w = band_.ptr<float>(r);
       const auto* rings = ring_.ptr<std::uint8_t>(r);
-      for (int c = 0; c < spectrum.cols; ++c) {
-        const double kc = k_col_[static_cast<std::size_t>(c)];
-        const double ku = kr * axis.u_row + kc * axis.u_col;
-        const double g = ku * ku * inv2s2;
-        if (g > 8.0 || w[c] == 0.0f) continue;
-        const double k_weight =
-            (high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0) * gain_at(gain, rings, c);
-        const double p = static_cast<double>(w[c]) * std::exp(-g) * k_weight *
-            (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
-        m_rr += p * kr * kr;
-        m_cc += p * kc * kc;
-        m_rc += p * kr * kc;
+      // Bins beyond g = 8 (|k.u| > 4 sigma) weigh less than exp(-8): skipped.
+      const detail::StripColumns columns =
+          detail::strip_columns(spectrum.cols, kr * axis.u_row, axis.u_col, strip_half_width);
+      for (int run = 0; run < 2; ++run) {
+        detail::for_each_power(spectrum, r, columns.begin[run], columns.end[run], [&](int c, float power) {
+          const double kc = k_col_[static_cast<std::size_t>(c)];
+          const double ku = kr * axis.u_row + kc * axis.u_col;
+          const double g = ku * ku * inv2s2;
+          if (g > 8.0 || w[c] == 0.0f) return;
+          const double k_weight =
+              (high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0) * gain_at(gain, rings, c);
+          const double p =
+              static_cast<double>(w[c]) * std::exp(-g) * k_weight * (static_cast<double>(power) - n0);
+          m_rr += p * kr * kr;
+          m_cc += p * kc * kc;
+          m_rc += p * kr * kc;
+        });
       }
     }
     if (m_rr + m_cc <= 0.0) break;

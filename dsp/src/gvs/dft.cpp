@@ -119,7 +119,7 @@ void DftPlan::plan(cv::Size size) {
   std::unique_ptr<float[], FftwFree> planning_real(fftwf_alloc_real(f->real_count()));
   if (!f->half || !planning_real) throw std::bad_alloc();
   const auto make = [&](unsigned flags) {
-    return direction_ == Direction::forward_real_to_complex
+    return direction_ != Direction::inverse_complex_to_real
                ? fftwf_plan_dft_r2c_2d(size.height, size.width, planning_real.get(), f->half.get(),
                                        flags | FFTW_PRESERVE_INPUT)
                : fftwf_plan_dft_c2r_2d(size.height, size.width, f->half.get(), planning_real.get(),
@@ -138,7 +138,7 @@ void DftPlan::plan(cv::Size size) {
 }
 
 void DftPlan::run(const cv::Mat& in, cv::Mat& out) {
-  const bool forward = direction_ == Direction::forward_real_to_complex;
+  const bool forward = direction_ != Direction::inverse_complex_to_real;
   CV_Assert(in.type() == (forward ? CV_32FC1 : CV_32FC2));
   if (!fftw_ || fftw_->size != in.size()) plan(in.size());
   Fftw& f = *fftw_;
@@ -157,12 +157,14 @@ void DftPlan::run(const cv::Mat& in, cv::Mat& out) {
     }
     // FFTW_PRESERVE_INPUT: the caller's image is only read.
     fftwf_execute_dft_r2c(f.plan, const_cast<float*>(src), f.half.get());
-    // The full spectrum: the half as it is, the rest its conjugate mirror.
+    // The half as it is, and for the full spectrum the rest its conjugate mirror.
+    const bool full = direction_ == Direction::forward_real_to_complex;
     for (int r = 0; r < rows; ++r) {
       const std::complex<float>* h = half + static_cast<std::ptrdiff_t>(r) * hc;
-      const std::complex<float>* mirror = half + static_cast<std::ptrdiff_t>((rows - r) % rows) * hc;
       auto* o = out.ptr<std::complex<float>>(r);
       std::copy_n(h, hc, o);
+      if (!full) continue;
+      const std::complex<float>* mirror = half + static_cast<std::ptrdiff_t>((rows - r) % rows) * hc;
       for (int c = hc; c < cols; ++c) o[c] = std::conj(mirror[cols - c]);
     }
     return;

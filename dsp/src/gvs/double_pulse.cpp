@@ -15,6 +15,7 @@
 
 #include "gvs/dsp/blur_analysis.hpp"
 #include "peak_fit.hpp"
+#include "search_spans.hpp"
 
 namespace gvs::dsp {
 
@@ -39,45 +40,57 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
   const double a0 = static_cast<double>(surface_.at<float>(0, 0));
   if (a0 <= 0.0) return out;
 
-  // Highest side peak in the half plane (the surface is even: A(-t) = A(t)).
+  // Highest side peak in the half plane (the surface is even: A(-t) = A(t)):
+  // row lags 0 .. rmax, on each the columns min <= |d| <= max, in the order
+  // dc = -cmax .. cmax (ties resolve to the first). Each row's highest value
+  // is kept for the second peak.
   const int rows = surface_.rows;
   const int cols = surface_.cols;
   const int rmax = std::min(rows / 2 - 2, static_cast<int>(max_px));
   const int cmax = std::min(cols / 2 - 2, static_cast<int>(max_px));
-  const double mn2 = min_px * min_px;
-  const double mx2 = max_px * max_px;
+  // f(dc, value) over row lag dr's columns in the search, dc ascending.
+  const auto for_each_lag = [&](int dr, auto&& f) {
+    const detail::ColumnSpan a = detail::ring_span(dr, min_px, true, max_px, cmax);
+    if (a.empty()) return;
+    const float* s = surface_.ptr<float>(dr);
+    if (dr > 0) {
+      for (int dc = -a.hi; dc <= -std::max(a.lo, 1); ++dc) f(dc, static_cast<double>(s[cols + dc]));
+    }
+    for (int dc = std::max(a.lo, dr > 0 ? 0 : 1); dc <= a.hi; ++dc) f(dc, static_cast<double>(s[dc]));
+  };
   double best = -1e30;
   int best_r = 0;
   int best_c = 0;
   for (int dr = 0; dr <= rmax; ++dr) {
-    for (int dc = -cmax; dc <= cmax; ++dc) {
-      if (dr == 0 && dc <= 0) continue;
-      const double d2 = static_cast<double>(dr * dr + dc * dc);
-      if (d2 < mn2 || d2 > mx2) continue;
-      const double v = detail::at_lag(surface_, dr, dc);
+    double row_best = 0.0;
+    for_each_lag(dr, [&](int dc, double v) {
+      row_best = std::max(row_best, v);
       if (v > best) {
         best = v;
         best_r = dr;
         best_c = dc;
       }
-    }
+    });
+    row_max_[static_cast<std::size_t>(dr)] = row_best;
   }
   if (best <= 0.0) return out;
+  // Second peak: away from the first by more than 5 px, and from its mirror
+  // (it can reappear near dr = 0). Rows that hold no lag that near keep
+  // their highest value; the others are searched again.
   double second = 0.0;
   for (int dr = 0; dr <= rmax; ++dr) {
-    for (int dc = -cmax; dc <= cmax; ++dc) {
-      if (dr == 0 && dc <= 0) continue;
-      const double d2 = static_cast<double>(dr * dr + dc * dc);
-      if (d2 < mn2 || d2 > mx2) continue;
-      const int er = dr - best_r;
-      const int ec = dc - best_c;
-      if (er * er + ec * ec <= 25) continue;
-      // Also skip the mirror of the peak (it can reappear near dr = 0).
-      const int mr = dr + best_r;
-      const int mc = dc + best_c;
-      if (mr * mr + mc * mc <= 25) continue;
-      second = std::max(second, detail::at_lag(surface_, dr, dc));
+    const int er = dr - best_r;
+    const int mr = dr + best_r;
+    if (er * er > 25 && mr * mr > 25) {
+      second = std::max(second, row_max_[static_cast<std::size_t>(dr)]);
+      continue;
     }
+    for_each_lag(dr, [&](int dc, double v) {
+      const int ec = dc - best_c;
+      const int mc = dc + best_c;
+      if (er * er + ec * ec <= 25 || mr * mr + mc * mc <= 25) return;
+      second = std::max(second, v);
+    });
   }
   // Sub-pixel fit on A divided by the window overlap, which would pull the
   // peak towards lag 0 (spectrum.hpp, WindowOverlap).

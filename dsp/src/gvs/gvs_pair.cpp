@@ -132,11 +132,11 @@ Vec2 compensate_lag(Vec2 v_pair, const MotionMemory& m, std::int64_t index, doub
 PairWorkspace::PairWorkspace(cv::Size frame_size)
     : left(half_window(frame_size, false)),
       right(half_window(frame_size, true)),
-      half_spectrum(left.size()),
+      half_spectrum(left.size(), kWindowTaper, DftPlan::Direction::forward_real_to_half_complex),
       correlator(left.size()) {
   for (HalfSpectra* h : {&current, &previous}) {
-    h->left.create(left.size(), CV_32FC2);
-    h->right.create(right.size(), CV_32FC2);
+    h->left = cv::Mat::zeros(left.size(), CV_32FC2);
+    h->right = cv::Mat::zeros(right.size(), CV_32FC2);
   }
 }
 

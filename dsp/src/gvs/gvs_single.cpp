@@ -267,10 +267,13 @@ double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern
 
 }  // namespace
 
+// BlurAnalyzer reads the columns 0 .. cols/2 only: the rest is not filled.
 SpectrumWorkspace::SpectrumWorkspace(cv::Size frame_size)
-    : tukey(frame_size), hann(frame_size, 1.0), blur(frame_size) {
-  spectrum.create(frame_size, CV_32FC2);
-  hann_spectrum.create(frame_size, CV_32FC2);
+    : tukey(frame_size, kWindowTaper, DftPlan::Direction::forward_real_to_half_complex),
+      hann(frame_size, 1.0, DftPlan::Direction::forward_real_to_half_complex),
+      blur(frame_size) {
+  spectrum = cv::Mat::zeros(frame_size, CV_32FC2);
+  hann_spectrum = cv::Mat::zeros(frame_size, CV_32FC2);
 }
 
 StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, double mean_grey,

@@ -9,8 +9,8 @@ namespace gvs::dsp {
 
 TrackingState::TrackingState(cv::Size frame_size, cv::Size half_size) : pattern(frame_size) {
   previous.gray.create(frame_size, CV_8UC1);
-  previous.halves.left.create(half_size, CV_32FC2);
-  previous.halves.right.create(half_size, CV_32FC2);
+  previous.halves.left = cv::Mat::zeros(half_size, CV_32FC2);
+  previous.halves.right = cv::Mat::zeros(half_size, CV_32FC2);
 }
 
 MotionMemory::Mode next_mode(const MotionMemory& m, double dt_s, const CameraGeometry& cam,

@@ -1,14 +1,44 @@
 // Phase correlation (see phase_correlation.hpp).
 #include "gvs/dsp/phase_correlation.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/core.hpp>
 
 #include "gvs/dsp/spectrum.hpp"
 #include "peak_fit.hpp"
+#include "search_spans.hpp"
 
 namespace gvs::dsp {
+
+namespace {
+
+/// The lags (dr, dc) a search takes, exclude < |d| <= max, on a periodic
+/// rows x cols surface (lag 0 at (0, 0); row r is lag r or r - rows).
+struct SearchBand {
+  int rows;
+  int cols;
+  double exclude_px;
+  double max_px;
+
+  [[nodiscard]] int lag_of_row(int r) const { return r < (rows + 1) / 2 ? r : r - rows; }
+  [[nodiscard]] bool reaches(int dr) const { return static_cast<double>(dr * dr) <= max_px * max_px; }
+
+  /// f(c, dc) for the columns of row lag `dr` inside the band, in column
+  /// order (the order a full scan visits them, so ties resolve the same).
+  template <class F>
+  void for_each_column(int dr, F&& f) const {
+    const detail::ColumnSpan a = detail::ring_span(dr, exclude_px, false, max_px, cols);
+    if (a.empty()) return;
+    const int last_positive = std::min(a.hi, (cols + 1) / 2 - 1);
+    for (int dc = a.lo; dc <= last_positive; ++dc) f(dc, dc);
+    for (int dc = std::max(-a.hi, (cols + 1) / 2 - cols); dc <= -std::max(a.lo, 1); ++dc) f(cols + dc, dc);
+  }
+};
+
+}  // namespace
 
 PhaseCorrelator::PhaseCorrelator(cv::Size size, double max_frequency)
     : inverse_dft_(DftPlan::Direction::inverse_complex_to_real, size) {
@@ -43,6 +73,7 @@ PhaseCorrelator::PhaseCorrelator(cv::Size size, double max_frequency)
   }
   cross_ = cv::Mat::zeros(size, CV_32FC2);  // the columns past cols/2 stay 0, never read
   surface_.create(size, CV_32F);
+  row_max_.assign(static_cast<std::size_t>(size.height), 0.0f);
 }
 
 ImageShift PhaseCorrelator::correlate(const cv::Mat& spectrum_prev, const cv::Mat& spectrum_cur,
@@ -67,44 +98,54 @@ ImageShift PhaseCorrelator::correlate(const cv::Mat& spectrum_prev, const cv::Ma
   }
   inverse_dft_.run(cross_, surface_);
 
-  // Highest peak with exclude < |d| <= max, and the surface RMS.
-  const double ex2 = exclude_radius_px * exclude_radius_px;
-  const double mx2 = max_shift_px * max_shift_px;
-  double best = -1e30;
-  int best_r = 0;
-  int best_c = 0;
+  // The surface RMS over every lag.
   double sum_sq = 0.0;
   for (int r = 0; r < rows; ++r) {
-    const int dr = r < (rows + 1) / 2 ? r : r - rows;
     const float* s = surface_.ptr<float>(r);
-    for (int c = 0; c < cols; ++c) {
-      const double v = static_cast<double>(s[c]);
-      sum_sq += v * v;
-      const int dc = c < (cols + 1) / 2 ? c : c - cols;
-      const double d2 = static_cast<double>(dr * dr + dc * dc);
-      if (d2 <= ex2 || d2 > mx2) continue;
+    for (int c = 0; c < cols; ++c) sum_sq += static_cast<double>(s[c]) * static_cast<double>(s[c]);
+  }
+
+  // Highest peak with exclude < |d| <= max, row by row over the rows the
+  // search reaches; each row's highest value is kept for the second peak.
+  const SearchBand band{rows, cols, exclude_radius_px, max_shift_px};
+  float best = -std::numeric_limits<float>::infinity();
+  int best_r = 0;
+  int best_c = 0;
+  for (int r = 0; r < rows; ++r) {
+    row_max_[static_cast<std::size_t>(r)] = 0.0f;
+    const int dr = band.lag_of_row(r);
+    if (!band.reaches(dr)) continue;
+    const float* s = surface_.ptr<float>(r);
+    float row_best = 0.0f;
+    band.for_each_column(dr, [&](int c, int dc) {
+      const float v = s[c];
+      row_best = std::max(row_best, v);
       if (v > best) {
         best = v;
         best_r = dr;
         best_c = dc;
       }
-    }
+    });
+    row_max_[static_cast<std::size_t>(r)] = row_best;
   }
-  if (best <= -1e29) return out;
-  // Second peak: highest value farther than 4 px from the first (and outside the exclusion).
+  if (best == -std::numeric_limits<float>::infinity()) return out;
+  // Second peak: highest value farther than 4 px from the first (and outside
+  // the exclusion). Rows more than 4 px from it hold no lag near it: their
+  // highest value stands; the nine rows near it are searched again.
   double second = 0.0;
   for (int r = 0; r < rows; ++r) {
-    const int dr = r < (rows + 1) / 2 ? r : r - rows;
-    const float* s = surface_.ptr<float>(r);
-    for (int c = 0; c < cols; ++c) {
-      const int dc = c < (cols + 1) / 2 ? c : c - cols;
-      const double d2 = static_cast<double>(dr * dr + dc * dc);
-      if (d2 <= ex2 || d2 > mx2) continue;
-      const int er = dr - best_r;
-      const int ec = dc - best_c;
-      if (er * er + ec * ec <= 16) continue;
-      second = std::max(second, static_cast<double>(s[c]));
+    const int dr = band.lag_of_row(r);
+    if (!band.reaches(dr)) continue;
+    const int er = dr - best_r;
+    if (er * er > 16) {
+      second = std::max(second, static_cast<double>(row_max_[static_cast<std::size_t>(r)]));
+      continue;
     }
+    const float* s = surface_.ptr<float>(r);
+    band.for_each_column(dr, [&](int c, int dc) {
+      const int ec = dc - best_c;
+      if (er * er + ec * ec > 16) second = std::max(second, static_cast<double>(s[c]));
+    });
   }
   const detail::SubPixel p = detail::fit_extremum_3x3(surface_, best_r, best_c);
   const double rms = std::sqrt(sum_sq / static_cast<double>(rows * cols));
@@ -112,8 +153,8 @@ ImageShift PhaseCorrelator::correlate(const cv::Mat& spectrum_prev, const cv::Ma
   out.d_row_px = p.d_row;
   out.d_col_px = p.d_col;
   out.peak = best;
-  out.peak_to_rms = rms > 0.0 ? best / rms : 0.0;
-  out.second_ratio = best > 0.0 ? second / best : 1.0;
+  out.peak_to_rms = rms > 0.0 ? out.peak / rms : 0.0;
+  out.second_ratio = out.peak > 0.0 ? second / out.peak : 1.0;
   return out;
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <opencv2/core.hpp>
 
@@ -36,8 +37,11 @@ cv::Mat spectrum_window(cv::Size size, int type, double taper_fraction) {
   return out;
 }
 
-WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction)
-    : size_(size), dft_(DftPlan::Direction::forward_real_to_complex, size) {
+WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction, DftPlan::Direction transform)
+    : size_(size), dft_(transform, size) {
+  if (transform == DftPlan::Direction::inverse_complex_to_real) {
+    throw std::invalid_argument("WindowedSpectrum: the transform must be a forward one");
+  }
   window_ = spectrum_window(size, CV_32F, taper_fraction);
   work_.create(size, CV_32F);
   window_sum_ = cv::sum(window_)[0];
@@ -47,17 +51,24 @@ WindowedSpectrum::WindowedSpectrum(cv::Size size, double taper_fraction)
 template <class RowOffsets>
 void WindowedSpectrum::compute_with(const cv::Mat& gray, cv::Mat& spectrum, RowOffsets row_offsets) {
   // m = sum((g - o) w) / sum(w): the windowed mean, so that f has no DC term.
-  double weighted = 0.0;
+  // Four sums side by side (one would wait on each add); m is rounded to
+  // float, far coarser than the order of the adds can change it.
+  double weighted[4] = {0.0, 0.0, 0.0, 0.0};
   for (int r = 0; r < size_.height; ++r) {
     const auto* g = gray.ptr<unsigned char>(r);
     const float* o = row_offsets(r);
     const float* w = window_.ptr<float>(r);
-    for (int c = 0; c < size_.width; ++c) {
+    const auto term = [&](int c) {
       const float v = o != nullptr ? static_cast<float>(g[c]) - o[c] : static_cast<float>(g[c]);
-      weighted += static_cast<double>(v * w[c]);
+      return static_cast<double>(v * w[c]);
+    };
+    int c = 0;
+    for (; c + 4 <= size_.width; c += 4) {
+      for (int j = 0; j < 4; ++j) weighted[j] += term(c + j);
     }
+    for (; c < size_.width; ++c) weighted[0] += term(c);
   }
-  const auto m = static_cast<float>(weighted / window_sum_);
+  const auto m = static_cast<float>(((weighted[0] + weighted[1]) + (weighted[2] + weighted[3])) / window_sum_);
   for (int r = 0; r < size_.height; ++r) {
     const auto* g = gray.ptr<unsigned char>(r);
     const float* o = row_offsets(r);

@@ -7,6 +7,10 @@
 //
 // All three see the motion only up to its sign: a streak or a pair of images
 // looks the same whether the ground moved forwards or backwards.
+//
+// Every method reads only the spectrum's columns 0 .. cols/2 (DftPlan,
+// forward_real_to_half_complex): the rest of a real image's spectrum is their
+// conjugate mirror, of the same power.
 #pragma once
 
 #include <array>
@@ -138,6 +142,7 @@ class BlurAnalyzer {
   cv::Mat double_band_;  ///< band_ without the column pattern's rows (double_image)
   cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0); columns 0 .. cols/2 only
   cv::Mat surface_;  ///< CV_32F autocorrelation
+  std::vector<double> row_max_;  ///< double_image(): per row lag, its highest value in the search
   WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
   DftPlan inverse_dft_;  ///< planned for `size` at construction
   std::array<double, 2048> ray_{};  ///< samples of A along the streak axis

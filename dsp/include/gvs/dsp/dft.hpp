@@ -5,7 +5,8 @@
 // (docs/performance.md, "Estimator per frame kind and per stage"). The
 // layout stays OpenCV's: the forward transform gives the full complex
 // spectrum (CV_32FC2, every bin), filled from FFTW's half spectrum by
-// conjugate symmetry, so every consumer reads the spectrum as before.
+// conjugate symmetry, so every consumer reads the spectrum as before;
+// consumers that read only the columns 0 .. cols/2 ask for those alone.
 //
 // A plan and its buffers are made at construction (with a size) or on the
 // first run, and again only if the size changes: every later run allocates
@@ -22,6 +23,10 @@ class DftPlan {
  public:
   enum class Direction {
     forward_real_to_complex,  ///< CV_32FC1 image -> CV_32FC2 full complex spectrum
+    /// CV_32FC1 image -> CV_32FC2 of the image's size with only the columns
+    /// 0 .. cols/2 written (the rest is their mirror, which the inverse and
+    /// the phase correlation never read): FFTW's r2c output, copied once.
+    forward_real_to_half_complex,
     inverse_complex_to_real,  ///< CV_32FC2 spectrum -> CV_32FC1, scaled by 1/(rows cols)
   };
 

@@ -82,8 +82,8 @@ struct SpectrumWorkspace {
   /// recent speed (circular aliasing, analyse_streak).
   WindowedSpectrum hann;
   BlurAnalyzer blur;
-  cv::Mat spectrum;       ///< CV_32FC2, from `tukey`
-  cv::Mat hann_spectrum;  ///< CV_32FC2, from `hann`
+  cv::Mat spectrum;       ///< CV_32FC2, from `tukey`: columns 0 .. cols/2 (BlurAnalyzer reads no more)
+  cv::Mat hann_spectrum;  ///< CV_32FC2, from `hann`: the same columns
   BlurAnalyzer::RingGain ring_gain{};
 };
 

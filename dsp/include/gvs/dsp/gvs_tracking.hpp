@@ -15,7 +15,9 @@
 
 namespace gvs::dsp {
 
-/// The pair's spectra of one frame's two half windows (gvs_pair.cpp).
+/// The pair's spectra of one frame's two half windows (gvs_pair.cpp):
+/// columns 0 .. cols/2 only (the phase correlation reads no more; the rest
+/// stays zero).
 struct HalfSpectra {
   cv::Mat left;   ///< CV_32FC2
   cv::Mat right;  ///< CV_32FC2

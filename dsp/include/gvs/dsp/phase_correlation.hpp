@@ -43,6 +43,7 @@ class PhaseCorrelator {
   cv::Mat weight_;  ///< CV_32F band limit per bin
   cv::Mat cross_;   ///< CV_32FC2 normalised cross-power spectrum; columns 0 .. cols/2 only
   cv::Mat surface_; ///< CV_32F
+  std::vector<float> row_max_;  ///< per surface row, its highest value in the searched band
   DftPlan inverse_dft_;  ///< planned for `size` at construction
 };
 

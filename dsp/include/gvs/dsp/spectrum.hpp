@@ -34,11 +34,15 @@ cv::Mat spectrum_window(cv::Size size, int type, double taper_fraction = kWindow
 /// configured size.
 class WindowedSpectrum {
  public:
-  /// `taper_fraction`: of the Tukey window (1: Hann).
-  explicit WindowedSpectrum(cv::Size size, double taper_fraction = kWindowTaper);
+  /// `taper_fraction`: of the Tukey window (1: Hann). `transform`:
+  /// forward_real_to_complex for the full spectrum, forward_real_to_half_complex
+  /// when only the columns 0 .. cols/2 are read (the phase correlation).
+  explicit WindowedSpectrum(cv::Size size, double taper_fraction = kWindowTaper,
+                            DftPlan::Direction transform = DftPlan::Direction::forward_real_to_complex);
 
   /// `gray`: CV_8UC1 of the configured size (use a ROI for sub-windows).
-  /// `spectrum`: full complex spectrum, CV_32FC2, same size.
+  /// `spectrum`: complex spectrum, CV_32FC2, same size (the columns the
+  /// transform writes: all, or 0 .. cols/2).
   /// `column_offsets` (optional, one per column, grey levels) are subtracted
   /// first: the sensor's column fixed-pattern noise, which otherwise looks
   /// exactly like an endless streak along the columns.

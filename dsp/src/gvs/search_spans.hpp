@@ -1,0 +1,101 @@
+// The parts of a spectrum or a correlation surface a search visits: only
+// those a full scan's test could accept, in the order a full scan visits
+// them, so a sum or a maximum over them equals the full scan's exactly;
+// and a spectrum's power read from its non-redundant half.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/core/mat.hpp>
+
+#include "gvs/dsp/vocabulary.hpp"
+
+namespace gvs::dsp::detail {
+
+/// |dc| from `lo` to `hi` (empty when lo > hi).
+struct ColumnSpan {
+  int lo = 0;
+  int hi = -1;
+  [[nodiscard]] bool empty() const { return lo > hi; }
+};
+
+/// The columns of row lag `dr` in the ring inner < |d| <= outer (or
+/// inner <= |d| with `inner_closed`), |dc| at most `limit`: the two arcs a
+/// search ring cuts from the row, found from d^2 = dr^2 + dc^2 as a full
+/// scan's test would find them (the same comparisons in double).
+inline ColumnSpan ring_span(int dr, double inner_px, bool inner_closed, double outer_px, int limit) {
+  const double in2 = inner_px * inner_px;
+  const double out2 = outer_px * outer_px;
+  const auto d2 = [dr](int a) { return static_cast<double>(dr * dr + a * a); };
+  ColumnSpan s;
+  int hi = std::min(limit, static_cast<int>(std::sqrt(std::max(0.0, out2 - dr * dr))));
+  while (hi < limit && d2(hi + 1) <= out2) ++hi;
+  while (hi >= 0 && d2(hi) > out2) --hi;
+  const auto inside_inner = [&](int a) { return inner_closed ? d2(a) >= in2 : d2(a) > in2; };
+  int lo = std::max(0, static_cast<int>(std::sqrt(std::max(0.0, in2 - dr * dr))) - 1);
+  while (lo > 0 && inside_inner(lo - 1)) --lo;
+  while (lo <= hi && !inside_inner(lo)) ++lo;
+  s.lo = lo;
+  s.hi = hi;
+  return s;
+}
+
+/// The columns of a spectrum row that can lie in the strip |a + k_col b| <= h
+/// around a line k.u = 0 (a = k_row u_row, b = u_col): up to two runs of c,
+/// in column order, each a column wider at both ends than the exact bounds.
+/// The caller still tests every bin, so a sum over them equals the sum over
+/// the whole row, at a tenth of the bins for a 0.2 rad/px strip.
+struct StripColumns {
+  int begin[2] = {0, 0};
+  int end[2] = {0, 0};
+};
+
+inline StripColumns strip_columns(int cols, double a, double b, double h) {
+  StripColumns s;
+  const int j_first = (cols + 1) / 2 - cols;  // signed frequency index of the last column
+  const int j_last = (cols + 1) / 2 - 1;
+  const double per_column = 2.0 * kPi / cols;  // k_col = j 2 pi / cols
+  double j_lo = static_cast<double>(j_first);
+  double j_hi = static_cast<double>(j_last);
+  if (std::abs(b) > 1e-9) {
+    const double k1 = (-h - a) / b;
+    const double k2 = (h - a) / b;
+    j_lo = std::max(j_lo, std::floor(std::min(k1, k2) / per_column) - 1.0);
+    j_hi = std::min(j_hi, std::ceil(std::max(k1, k2) / per_column) + 1.0);
+  }
+  if (j_lo > j_hi) return s;
+  const int lo = static_cast<int>(j_lo);
+  const int hi = static_cast<int>(j_hi);
+  // j >= 0: columns j; j < 0: columns cols + j (the row's second half).
+  if (hi >= 0) {
+    s.begin[0] = std::max(lo, 0);
+    s.end[0] = hi + 1;
+  }
+  if (lo < 0) {
+    s.begin[1] = cols + lo;
+    s.end[1] = cols + std::min(hi, -1) + 1;
+  }
+  return s;
+}
+
+/// f(c, |X(r, c)|^2) for c = begin .. end - 1 in order, from the columns
+/// 0 .. cols/2 of a real image's spectrum X (CV_32FC2) only: past them
+/// X(r, c) = conj(X(-r, -c)), whose power is the same float (the sign of the
+/// imaginary part squares away). So a spectrum need not be mirrored out
+/// (DftPlan, forward_real_to_half_complex) for sums over every bin.
+template <class F>
+void for_each_power(const cv::Mat& spectrum, int r, int begin, int end, F&& f) {
+  const int rows = spectrum.rows;
+  const int cols = spectrum.cols;
+  const int half_end = std::min(end, cols / 2 + 1);
+  const auto* x = spectrum.ptr<cv::Vec2f>(r);
+  for (int c = begin; c < half_end; ++c) f(c, x[c][0] * x[c][0] + x[c][1] * x[c][1]);
+  const auto* mirror = spectrum.ptr<cv::Vec2f>((rows - r) % rows);
+  for (int c = std::max(begin, cols / 2 + 1); c < end; ++c) {
+    const cv::Vec2f& m = mirror[cols - c];
+    f(c, m[0] * m[0] + m[1] * m[1]);
+  }
+}
+
+}  // namespace gvs::dsp::detail
