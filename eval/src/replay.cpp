@@ -1,6 +1,9 @@
 #include "gvs/eval/replay.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <utility>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -48,6 +51,19 @@ ReplayStats replay_dataset(const drivers::DatasetReader& dataset, dsp::FrameProc
     if (e.quality > 0.0) ++stats.with_estimate;
     sink(e);
     if (options.dots_sink) options.dots_sink(e, processor.last_dots());
+  }
+  const std::size_t n = dataset.frames().size();
+  if (options.stage_pairs > 0 && n >= 2) {
+    // Pairs (i, i + 1) spread evenly over the run, so every kind of frame
+    // the run holds is in the breakdown about as often as in the run.
+    const std::size_t count = std::min(options.stage_pairs, n / 2);
+    std::vector<std::pair<cv::Mat, cv::Mat>> pairs;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t i = k * (n - 1) / count;
+      pairs.emplace_back(dataset.load_gray(i), dataset.load_gray(i + 1));
+    }
+    stats.stages = time_estimator_stages(make_stage_inputs(pairs));
+    stats.stage_pairs = count;
   }
   return stats;
 }

@@ -45,6 +45,7 @@ void run_replay(const ReplayCliOptions& o) {
   drivers::EstimatesCsvWriter writer(o.out);
   eval::ReplayOptions options;
   options.time_reference_dft = o.timing;
+  options.stage_pairs = o.timing ? 8 : 0;
   options.use_dataset_lasers = !o.no_lasers;
   config.correct_scale = !o.no_scale_correction;
   // The estimates CSV's columns are fixed (shared/spec/dataset-format.md):
@@ -81,6 +82,12 @@ void run_replay(const ReplayCliOptions& o) {
                 "replay / (decode + DFT) = %.2f\n",
                 stats.decode_s / n * 1e3, stats.estimate_s / n * 1e3, stats.dft_s / n * 1e3,
                 (stats.decode_s + stats.estimate_s) / (stats.decode_s + stats.dft_s));
+    // The benchmark's per-stage table (tests/dsp/gvs_stage_bench.cpp), on this dataset's frames.
+    std::printf("stages alone, CPU per call on %zu frame pairs of the run (as gvs_estimator_bench's BM_Stage):\n",
+                stats.stage_pairs);
+    for (const eval::StageTime& t : stats.stages) {
+      std::printf("  %-32s %7.3f ms  %s\n", t.name.c_str(), t.cpu_ms, t.description.c_str());
+    }
   }
 }
 
@@ -101,7 +108,9 @@ void register_replay(CLI::App& app) {
   cmd->add_flag("--no-lasers", opts->no_lasers, "Ignore camera.json's laser dots (no masking, no height)");
   cmd->add_flag("--no-scale-correction", opts->no_scale_correction,
                 "Find and mask the dots, but keep the speed at the nominal scale (to measure the correction)");
-  cmd->add_flag("--timing", opts->timing, "Also time PNG decoding and one forward DFT per frame, and compare");
+  cmd->add_flag("--timing", opts->timing,
+                "Also time PNG decoding and one forward DFT per frame, and compare; then each estimator stage "
+                "alone on 8 frame pairs of the run");
   cmd->callback([opts] { run_replay(*opts); });
 }
 
