@@ -128,6 +128,9 @@ struct StreakEnd {
   StreakLength length;
   bool clear = false;      ///< it stands out: its lag may give the axis
   bool has_speed = false;  ///< ... and its length the speed
+  /// The deepest end, deep and significant, lies at the search's shortest
+  /// length: the streak is that short or shorter.
+  bool shorter_than_search = false;
 };
 
 /// The surface is circular: a streak end at lag L' also shows at lag
@@ -188,6 +191,8 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   const bool faint = axis.texture_snr < set.min_speed_texture_snr;
   const bool lit_evidence = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit &&
                             len.significance >= set.min_streak_significance_cold;
+  end.shorter_than_search = len.found && len.depth >= set.min_streak_depth &&
+                            len.significance >= search.min_significance && len.length_px <= search.lo_px + 0.5;
   end.clear = consistent && accepted && (!faint || lit_evidence);
   end.has_speed = end.clear && len.length_px >= search.min_length_px &&
                   !(pattern_out && len.length_px > set.dark_max_streak_px);
@@ -251,7 +256,17 @@ void set_streak_velocity(VelocityEstimate& e, Vec2 a, double sign, const StreakE
 double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern_out,
                       const GvsEstimatorSettings& set) {
   const double q_dir = std::clamp((axis.anisotropy - set.min_anisotropy) / 0.3, 0.05, 1.0);
-  const double q_len = end.has_speed ? std::clamp(end.length.depth / 0.25, 0.05, 1.0) : 1.0;
+  // Without a speed the direction is as good as the spectrum says when the
+  // streak outgrew the search; but a streak shown shorter than the search
+  // (a deep end at its shortest length) is a streak of a few pixels, whose
+  // axis carries the ground's own grain: 1.7-2.1 deg off at 14 px on
+  // torcs_wheel1 (docs/accuracy.md, "Photographed ground").
+  double q_len = 1.0;
+  if (end.has_speed) {
+    q_len = std::clamp(end.length.depth / 0.25, 0.05, 1.0);
+  } else if (end.shorter_than_search) {
+    q_len = 0.05;
+  }
   // Texture power over sensor noise: under-exposed long streaks leave little
   // texture, and the column pattern of the sensor then pulls the axis.
   // Measured: 5-14 deg RMS at SNR 1-3, 1-3 deg at 4-8, 0.1-0.4 deg from 10:
