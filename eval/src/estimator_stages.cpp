@@ -150,7 +150,9 @@ std::vector<EstimatorStage> make_stages() {
   s.push_back({"double_image", "double_pulse", "double image",
                [](const StageInputs& in) -> Step {
                  auto blur = std::make_shared<dsp::BlurAnalyzer>(in.size);
-                 return [&in, blur](std::size_t i) { g_sink = blur->double_image(in.spectrum[i], 4.0, 200.0).d_row_px; };
+                 return [&in, blur](std::size_t i) {
+                   g_sink = blur->double_image(in.spectrum[i], 4.0, 200.0).d_row_px;
+                 };
                },
                frames});
   s.push_back({"double_image_asymmetry", "double_pulse", "double image asymmetry",
