@@ -152,7 +152,7 @@ ImageShift PhaseCorrelator::correlate(const cv::Mat& spectrum_prev, const cv::Ma
   out.found = true;
   out.d_row_px = p.d_row;
   out.d_col_px = p.d_col;
-  out.peak = best;
+  out.peak = static_cast<double>(best);
   out.peak_to_rms = rms > 0.0 ? out.peak / rms : 0.0;
   out.second_ratio = out.peak > 0.0 ? second / out.peak : 1.0;
   return out;
