@@ -258,9 +258,11 @@ double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern
   const double q_dir = std::clamp((axis.anisotropy - set.min_anisotropy) / 0.3, 0.05, 1.0);
   // Without a speed the direction is as good as the spectrum says when the
   // streak outgrew the search; but a streak shown shorter than the search
-  // (a deep end at its shortest length) is a streak of a few pixels, whose
-  // axis carries the ground's own grain: 1.7-2.1 deg off at 14 px on
-  // torcs_wheel1 (docs/accuracy.md, "Photographed ground").
+  // (a deep end at its shortest length) is not: with no speed known the
+  // search starts at 16 px, and a streak that short carries the ground's
+  // own grain in its axis (1.7-2.1 deg off at 14 px on torcs_wheel1,
+  // docs/accuracy.md, "Photographed ground"); with a speed known, it is
+  // shorter than that speed allows.
   double q_len = 1.0;
   if (end.has_speed) {
     q_len = std::clamp(end.length.depth / 0.25, 0.05, 1.0);
