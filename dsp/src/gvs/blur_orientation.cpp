@@ -100,6 +100,26 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum, const RingGain* ga
   return axis;
 }
 
+double BlurAnalyzer::line_snr(const cv::Mat& spectrum, const StreakAxis& axis, double half_width) const {
+  const double n0 = noise_floor(spectrum);
+  double signal = 0.0;
+  double noise = 0.0;
+  for (int r = 0; r < spectrum.rows; ++r) {
+    const double kr = k_row_[static_cast<std::size_t>(r)];
+    const float* w = band_.ptr<float>(r);
+    const detail::StripColumns columns = detail::strip_columns(spectrum.cols, kr * axis.u_row, axis.u_col, half_width);
+    for (int run = 0; run < 2; ++run) {
+      detail::for_each_power(spectrum, r, columns.begin[run], columns.end[run], [&](int c, float power) {
+        const double kc = k_col_[static_cast<std::size_t>(c)];
+        if (std::abs(kr * axis.u_row + kc * axis.u_col) > half_width) return;
+        signal += static_cast<double>(w[c]) * (static_cast<double>(power) - n0);
+        noise += static_cast<double>(w[c]) * n0;
+      });
+    }
+  }
+  return noise > 0.0 ? signal / noise : 0.0;
+}
+
 StreakAxis BlurAnalyzer::refine_axis(const cv::Mat& spectrum, const StreakAxis& start,
                                      double sigma, int iterations, bool high_k_weight,
                                      const RingGain* gain) const {

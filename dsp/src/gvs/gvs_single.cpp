@@ -315,7 +315,10 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   result.note = {.axis_measured = true, .anisotropy = axis.anisotropy, .dark = pattern_out};
   e.texture_snr = axis.texture_snr;
   e.pixel_snr = pixel_snr(mean_grey, ws);
-  if (axis.texture_snr < set.min_texture_snr) {
+  // Faint texture over the whole band: no direction, unless the streak is
+  // long and the light good, when the line may hold it all (min_line_snr).
+  const bool faint = axis.texture_snr < set.min_texture_snr;
+  if (faint && !(e.well_lit() && pattern_out && axis.anisotropy >= set.refine_min_anisotropy)) {
     e.method = Method::no_texture;
     return done();
   }
@@ -328,6 +331,10 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   const bool refine = axis.anisotropy >= set.refine_min_anisotropy;
   const bool line_sharp = refine && axis.texture_snr >= set.refine_high_k_min_texture_snr;
   if (refine) axis = refine_streak_axis(axis, pattern_out, line_sharp, set, ws);
+  if (faint && ws.blur.line_snr(ws.spectrum, axis, 2.0 * set.refine_sigma) < set.min_line_snr) {
+    e.method = Method::no_texture;
+    return done();
+  }
 
   // Longest streak we can measure: a fraction of the frame extent along the axis.
   const double extent = std::abs(axis.u_row) * frame.gray.rows + std::abs(axis.u_col) * frame.gray.cols;

@@ -106,6 +106,15 @@ class BlurAnalyzer {
   /// `gain` (optional): ring_gain() weights for each bin.
   [[nodiscard]] StreakAxis streak_axis(const cv::Mat& spectrum, const RingGain* gain = nullptr) const;
 
+  /// Texture power over the noise on the line k.u = 0 of `axis` alone
+  /// (within half_width rad/px of it):
+  ///   SNR_line = sum w (P - N0) / sum w N0  over the strip.
+  /// A streak of L px leaves about 1/L of the texture's power in the whole
+  /// band but all of it on this line, so a long streak on fine ground is
+  /// plain here while the band's SNR is small (docs/estimator.md, "Streaks
+  /// longer than the frame").
+  [[nodiscard]] double line_snr(const cv::Mat& spectrum, const StreakAxis& axis, double half_width) const;
+
   /// |k| (rad/px) up to which refine_axis() weights the line by |k|^2.
   static constexpr double kLineWeightCap = 1.0;
 

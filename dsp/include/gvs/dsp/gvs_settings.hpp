@@ -61,6 +61,15 @@ struct GvsEstimatorSettings {
   /// (docs/estimator.md, "Short streaks").
   double min_anisotropy = 0.6;
   double min_texture_snr = 0.3;      ///< band power above the noise floor over the noise: below, "no-texture"
+  /// ... unless the frame is well lit, the sensor's pixel pattern is out of
+  /// its spectrum, and the refined spectral line alone holds this much
+  /// texture over the noise (BlurAnalyzer::line_snr): a streak longer than
+  /// the frame on fine ground (3 ms at 60-140 km/h on the photographs: band
+  /// SNR 0.12-0.3, line 2.5-8, direction within 0.13 deg). Ground of 2 grey
+  /// levels, where medium streaks read 1-2 deg off, stays below 1.2; the
+  /// sensor's pattern and noise alone below 0.02 (docs/estimator.md,
+  /// "Streaks longer than the frame").
+  double min_line_snr = 2.0;
   /// Dark frames: below this texture SNR (with the column pattern taken
   /// out), the spectrum is taken again with the sensor's whole fixed pattern
   /// taken out (learnt per pixel from frames of moving ground), and the
