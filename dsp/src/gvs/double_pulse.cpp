@@ -7,6 +7,14 @@
 // so side peaks at t = +-d give the displacement (Adrian 1991, PIV by
 // autocorrelation). Weighting P(k) by |k|^2 (the autocorrelation of the
 // gradient) sharpens the peaks to the texture's grain size.
+//
+// On a dark frame the texture stands above the sensor noise only up to some
+// |k|, and the bins beyond, weighted most by |k|^2, add nothing but the
+// noise's scatter to the surface. There each bin is also weighted by the
+// Wiener gain of its ring, G = ((P - N0) / P)^2 (ring_gain()): close to 1
+// where the texture rules, close to 0 where the noise does, as the
+// weighting for delay estimation wants (a bin counts with the square of its
+// SNR while that is small; Knapp & Carter 1976).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -19,7 +27,7 @@
 
 namespace gvs::dsp {
 
-DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, double max_px) {
+DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, double max_px, const RingGain* gain) {
   DoubleImage out;
   const double n0 = noise_floor(spectrum);
   // Only the columns the inverse DFT reads (DftPlan: 0 .. cols/2).
@@ -29,9 +37,10 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
     const auto* f = spectrum.ptr<cv::Vec2f>(r);
     const float* w = double_band_.ptr<float>(r);
     auto* p = power_.ptr<cv::Vec2f>(r);
+    const auto* rings = ring_.ptr<std::uint8_t>(r);
     for (int c = 0; c < half_cols; ++c) {
       const double kc = k_col_[static_cast<std::size_t>(c)];
-      const double pw = static_cast<double>(w[c]) *
+      const double pw = static_cast<double>(w[c]) * gain_at(gain, rings, c) *
           (static_cast<double>(f[c][0] * f[c][0] + f[c][1] * f[c][1]) - n0);
       p[c] = cv::Vec2f(static_cast<float>(pw * (kr * kr + kc * kc)), 0.0f);
     }
@@ -39,7 +48,13 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
   inverse_dft_.run(power_, surface_);
   const double a0 = static_cast<double>(surface_.at<float>(0, 0));
   if (a0 <= 0.0) return out;
-
+  // The side peak is looked for beyond the central peak, which is as wide
+  // as the texture's grain in the band weighted (a dark frame's gain keeps
+  // its lower |k|: 8-10 px): from where the surface first falls to 0 along
+  // the rows, the columns and both diagonals. Inside, its flank is higher
+  // than a side peak and would be taken for one (at the search's inner
+  // edge), or make the side peak look not unique.
+  const double inner_px = std::max(min_px, central_peak_radius_px(max_px));
   // Highest side peak in the half plane (the surface is even: A(-t) = A(t)):
   // row lags 0 .. rmax, on each the columns min <= |d| <= max, in the order
   // dc = -cmax .. cmax (ties resolve to the first). Each row's highest value
@@ -50,7 +65,7 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
   const int cmax = std::min(cols / 2 - 2, static_cast<int>(max_px));
   // f(dc, value) over row lag dr's columns in the search, dc ascending.
   const auto for_each_lag = [&](int dr, auto&& f) {
-    const detail::ColumnSpan a = detail::ring_span(dr, min_px, true, max_px, cmax);
+    const detail::ColumnSpan a = detail::ring_span(dr, inner_px, true, max_px, cmax);
     if (a.empty()) return;
     const float* s = surface_.ptr<float>(dr);
     if (dr > 0) {
@@ -103,6 +118,18 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
   out.height = best / a0;
   out.second_ratio = second / best;
   return out;
+}
+
+double BlurAnalyzer::central_peak_radius_px(double max_px) const {
+  constexpr int kSteps[4][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}};
+  double radius = 0.0;
+  for (const auto& step : kSteps) {
+    const double step_px = std::hypot(step[0], step[1]);
+    int n = 1;
+    while (n * step_px <= max_px && detail::at_lag(surface_, n * step[0], n * step[1]) > 0.0) ++n;
+    radius = std::max(radius, n * step_px);
+  }
+  return radius;
 }
 
 void double_image_asymmetry(const cv::Mat& gray, DoubleImage& pair) {

@@ -10,23 +10,32 @@ namespace gvs::dsp {
 
 namespace {
 
-/// Texture SNR of a double-pulse frame, its spectrum in ws.spectrum; a dark
-/// frame's without the sensor's whole pattern.
-double double_pulse_spectrum(const cv::Mat& gray, const SensorPattern& pattern, const GvsEstimatorSettings& set,
-                             SpectrumWorkspace& ws) {
+/// A double-pulse frame's spectrum (in ws.spectrum) and its texture SNR.
+struct DoublePulseSpectrum {
+  double texture_snr = 0.0;
+  bool dark = false;  ///< without the sensor's whole pattern, and ws.ring_gain filled
+};
+
+/// The spectrum of a double-pulse frame; a dark frame's without the sensor's
+/// whole pattern, with the Wiener gain of its rings (double_pulse.cpp).
+DoublePulseSpectrum double_pulse_spectrum(const cv::Mat& gray, const SensorPattern& pattern,
+                                          const GvsEstimatorSettings& set, SpectrumWorkspace& ws) {
+  DoublePulseSpectrum s;
   // (No column pattern here: double_image() drops the spectrum rows it lives in.)
   ws.tukey.compute(gray, ws.spectrum);
-  double texture_snr = ws.blur.streak_axis(ws.spectrum).texture_snr;
-  if (texture_snr < set.pixel_pattern_max_texture_snr && pattern.pixel_frames() >= set.pixel_pattern_min_frames) {
+  s.texture_snr = ws.blur.streak_axis(ws.spectrum).texture_snr;
+  s.dark = s.texture_snr < set.pixel_pattern_max_texture_snr && pattern.pixel_frames() >= set.pixel_pattern_min_frames;
+  if (s.dark) {
     // Dark frame (short pulses at speed): without the sensor's whole pattern,
     // whose pixel offsets (10x the temporal noise in the dark) would bury the
     // texture's double image (docs/estimator.md, "Dark frames"; with the
     // search window below, `const double-pulse under` reads 60-140 km/h on
     // 100 % of frames at 0.059 deg RMS, in that run's section).
     ws.tukey.compute(gray, ws.spectrum, pattern.pixels());
-    texture_snr = ws.blur.streak_axis(ws.spectrum).texture_snr;
+    s.texture_snr = ws.blur.streak_axis(ws.spectrum).texture_snr;
+    ws.blur.ring_gain(ws.spectrum, nullptr, 0.0, ws.ring_gain);
   }
-  return texture_snr;
+  return s;
 }
 
 /// The displacements searched, min_px <= |d| <= max_px (none: max_px <= min_px).
@@ -80,7 +89,8 @@ DoublePulseResult analyse_double_pulse(const FrameView& frame, std::int64_t t_mi
     result.estimate = e;
     return result;
   };
-  const double texture_snr = double_pulse_spectrum(frame.gray, track.pattern, set, ws);
+  const DoublePulseSpectrum spectrum = double_pulse_spectrum(frame.gray, track.pattern, set, ws);
+  const double texture_snr = spectrum.texture_snr;
   e.texture_snr = texture_snr;
   // Pulse centres c1, c2; the displacement d spans dt = c2 - c1.
   const LightPulse& p1 = frame.exposure.pulses[0];
@@ -89,7 +99,8 @@ DoublePulseResult analyse_double_pulse(const FrameView& frame, std::int64_t t_mi
   if (!(dt_s > 0.0)) return done();
   const DisplacementSearch search = displacement_search(track.motion, frame.gray.size(), t_mid_ns, dt_s, cam, set);
   if (search.max_px <= search.min_px) return done();
-  DoubleImage pair = ws.blur.double_image(ws.spectrum, search.min_px, search.max_px);
+  DoubleImage pair =
+      ws.blur.double_image(ws.spectrum, search.min_px, search.max_px, spectrum.dark ? &ws.ring_gain : nullptr);
   if (!pair.found || pair.height < set.min_double_height ||
       pair.second_ratio > set.max_double_second) {
     return done();

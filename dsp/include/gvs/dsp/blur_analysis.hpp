@@ -137,13 +137,19 @@ class BlurAnalyzer {
   StreakLength streak_length(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
                              double max_px, double expected_px = 0.0, double axis_tan = 0.0);
 
-  /// Searches min_px <= |d| <= max_px in every direction.
-  DoubleImage double_image(const cv::Mat& spectrum, double min_px, double max_px);
+  /// Searches min_px <= |d| <= max_px in every direction. `gain`
+  /// (optional): ring_gain() weights for each bin, for dark frames (see
+  /// double_pulse.cpp).
+  DoubleImage double_image(const cv::Mat& spectrum, double min_px, double max_px, const RingGain* gain = nullptr);
 
   /// The last autocorrelation surface (CV_32F, lag 0 at (0,0), periodic).
   [[nodiscard]] const cv::Mat& surface() const { return surface_; }
 
  private:
+  /// double_image(): the lag (px) where the surface first falls to 0 from
+  /// lag 0, the furthest along the rows, the columns and the diagonals.
+  [[nodiscard]] double central_peak_radius_px(double max_px) const;
+
   std::vector<double> k_row_;
   std::vector<double> k_col_;
   cv::Mat band_;     ///< CV_32F band-pass weight per bin
