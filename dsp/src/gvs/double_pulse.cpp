@@ -50,10 +50,10 @@ DoubleImage BlurAnalyzer::double_image(const cv::Mat& spectrum, double min_px, d
   if (a0 <= 0.0) return out;
   // The side peak is looked for beyond the central peak, which is as wide
   // as the texture's grain in the band weighted (a dark frame's gain keeps
-  // its lower |k|: 8-10 px): from where the surface first falls to 0 along
-  // the rows, the columns and both diagonals. Inside, its flank is higher
-  // than a side peak and would be taken for one (at the search's inner
-  // edge), or make the side peak look not unique.
+  // its lower |k|: 8-10 px): from the first minimum of the surface going
+  // out along the rows, the columns and both diagonals. Inside, its flank
+  // is higher than a side peak and would be taken for one (at the search's
+  // inner edge), or make the side peak look not unique.
   const double inner_px = std::max(min_px, central_peak_radius_px(max_px));
   // Highest side peak in the half plane (the surface is even: A(-t) = A(t)):
   // row lags 0 .. rmax, on each the columns min <= |d| <= max, in the order
@@ -126,7 +126,10 @@ double BlurAnalyzer::central_peak_radius_px(double max_px) const {
   for (const auto& step : kSteps) {
     const double step_px = std::hypot(step[0], step[1]);
     int n = 1;
-    while (n * step_px <= max_px && detail::at_lag(surface_, n * step[0], n * step[1]) > 0.0) ++n;
+    while ((n + 1) * step_px <= max_px && detail::at_lag(surface_, (n + 1) * step[0], (n + 1) * step[1]) <
+                                             detail::at_lag(surface_, n * step[0], n * step[1])) {
+      ++n;
+    }
     radius = std::max(radius, n * step_px);
   }
   return radius;

@@ -146,8 +146,8 @@ class BlurAnalyzer {
   [[nodiscard]] const cv::Mat& surface() const { return surface_; }
 
  private:
-  /// double_image(): the lag (px) where the surface first falls to 0 from
-  /// lag 0, the furthest along the rows, the columns and the diagonals.
+  /// double_image(): the lag (px) of the surface's first minimum going out
+  /// from lag 0, the furthest along the rows, the columns and the diagonals.
   [[nodiscard]] double central_peak_radius_px(double max_px) const;
 
   std::vector<double> k_row_;
