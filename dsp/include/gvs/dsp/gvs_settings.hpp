@@ -65,7 +65,7 @@ struct GvsEstimatorSettings {
   /// its spectrum, and the refined spectral line alone holds this much
   /// texture over the noise (BlurAnalyzer::line_snr): a streak longer than
   /// the frame on fine ground (3 ms at 60-140 km/h on the photographs: band
-  /// SNR 0.12-0.3, line 2.5-8, direction within 0.13 deg). Ground of 2 grey
+  /// SNR 0.1-0.3, line 2.1-8, direction within 0.19 deg). Ground of 2 grey
   /// levels, where medium streaks read 1-2 deg off, stays below 1.2; the
   /// sensor's pattern and noise alone below 0.02 (docs/estimator.md,
   /// "Streaks longer than the frame").
