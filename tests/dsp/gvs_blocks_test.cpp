@@ -115,6 +115,16 @@ TEST_P(StreakAnalysis, AxisAndLength) {
   // 12 px (blur_length.cpp), hence 1.5 % under 20 px and 1 % above.
   EXPECT_LT(std::abs(err_len), s.length_px < 20.0 ? 0.015 : 0.01);
   EXPECT_GT(len.depth, 0.1);
+
+  // The power cepstrum reads the same end (it vouches for faint ones; the
+  // estimator asks the two to agree within 2 %). Its first zero lies at
+  // |k.u| = 2 pi / L: from ~25 px several zeros fall in the band.
+  if (s.length_px >= 25.0) {
+    const StreakLength cep = blur.streak_length_cepstral(f, axis, 5.0, 160.0);
+    ASSERT_TRUE(cep.found);
+    std::printf("   cepstrum %.2f px (err %+.2f %%)\n", cep.length_px, 100.0 * (cep.length_px / s.length_px - 1.0));
+    EXPECT_LT(std::abs(cep.length_px / s.length_px - 1.0), 0.01);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Angles, StreakAnalysis,

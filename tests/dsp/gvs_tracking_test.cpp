@@ -257,5 +257,42 @@ TEST(SensorPattern, LearnsTheColumnAndPixelOffsetsFromMovingGround) {
   EXPECT_LT(err_rms, 0.5 * offsets_rms);
 }
 
+TEST(SensorPattern, FineTextureEnergyIsTheMeanSquareStepOverFourPixels) {
+  // Stripes 4 columns wide, 100 and 110: every step over 4 px along a row
+  // is +-10, down a column 0, so the mean square step is (100 + 0) / 2.
+  cv::Mat stripes(40, 64, CV_8UC1);
+  for (int c = 0; c < stripes.cols; ++c) stripes.col(c).setTo((c / 4) % 2 == 0 ? 100 : 110);
+  EXPECT_DOUBLE_EQ(SensorPattern::fine_texture_energy(stripes), 50.0);
+  // A smooth ramp counts as its step only: 40 grey levels across 64 columns
+  // (far steeper than a ring light's fall-off across 512) step 2.5 over
+  // 4 px, about 3 in all.
+  cv::Mat ramp(40, 64, CV_8UC1);
+  for (int c = 0; c < ramp.cols; ++c) ramp.col(c).setTo(100 + (40 * c) / 63);
+  EXPECT_LT(SensorPattern::fine_texture_energy(ramp), 4.0);
+}
+
+TEST(SensorPattern, SharpGroundHardlyTeachesThePixelPattern) {
+  // Frames alternate between sharp ground (20 grey levels RMS) and blurred
+  // ground (2 grey levels). A plain mean of the 100 frames would keep
+  // sqrt(50 * 20^2 + 50 * 2^2) / 100 = 1.4 grey levels RMS of ground in the
+  // pattern, against 2.3 of offsets; weighted by the inverse of each frame's
+  // ground variance the blurred frames rule and ~0.3 stays.
+  const cv::Size size(160, 120);
+  SensorPattern p(size);
+  cv::Mat pixel_offsets(size, CV_32F);
+  cv::RNG rng(7);
+  rng.fill(pixel_offsets, cv::RNG::UNIFORM, -4.0, 4.0);
+  for (int i = 0; i < 100; ++i) {
+    cv::Mat ground(size, CV_32F);
+    rng.fill(ground, cv::RNG::NORMAL, 100.0, i % 2 == 0 ? 20.0 : 2.0);
+    cv::Mat gray;
+    cv::Mat(ground + pixel_offsets).convertTo(gray, CV_8U);
+    p.learn_pixels(gray, cv::mean(gray)[0]);
+  }
+  const cv::Mat expected = pixel_offsets - cv::mean(pixel_offsets)[0];
+  const double err_rms = cv::norm(p.pixels(), expected, cv::NORM_L2) / std::sqrt(size.area());
+  EXPECT_LT(err_rms, 0.6);
+}
+
 }  // namespace
 }  // namespace gvs::dsp

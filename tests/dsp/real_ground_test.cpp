@@ -95,11 +95,15 @@ TEST_P(PhotographedGround, FixedExposureAt130KmhGivesTheDirectionOfStreaksLonger
 TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFrames) {
   // 5-15 km/h with 3 ms: streaks of 40-125 px, which keep little of the
   // ground's texture power (texture SNR 1.5-6 on these photographs) although
-  // the frame is well lit. Clear streak ends give the speed, none a wrong one.
+  // the frame is well lit. Clear streak ends give the speed, and faint ones
+  // that the power cepstrum puts at the same length; none a wrong one. The
+  // pixel pattern is learnt mostly from the blurred frames, so it does not
+  // hand back the sharper frames' ground (seed 2: 87-100 % of the frames,
+  // 48-100 % with neither).
   const RunScore s = fixed_exposure_run("accel", 2.2);
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 20);
-  EXPECT_GE(b.speed_coverage(), 0.4);
+  EXPECT_GE(b.speed_coverage(), 0.85);
   EXPECT_LE(b.speed_rms(), 0.01);
   for (const BandScore& band : s.bands) EXPECT_LE(band.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);

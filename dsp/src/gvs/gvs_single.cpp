@@ -188,14 +188,39 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   // L px keeps about 1/L of the texture's power): its streak end counts at
   // a lower texture SNR if it stands out as clearly as a start-up end must
   // (docs/estimator.md, "Dark or blurred").
+  // Short of those bars on a well-lit frame, the end still counts when the
+  // power cepstrum, a reading of the same streak that weighs every zero of
+  // the blur alike, puts it at the same length (cepstrum_max_disagreement):
+  // a tracked faint end, and a lit frame's end beyond dark_max_streak_px
+  // (docs/estimator.md, "Faint streaks on well-lit ground").
+  int cepstrum_agrees = -1;  // not yet looked at
+  double cepstrum_px = 0.0;
+  const auto vouched = [&] {
+    if (cepstrum_agrees < 0) {
+      const StreakLength c = ws.blur.streak_length_cepstral(ws.spectrum, axis, search.lo_px, search.hi_px);
+      cepstrum_px = c.length_px;
+      cepstrum_agrees = c.found && std::abs(c.length_px - len.length_px) <=
+                                       set.cepstrum_max_disagreement * len.length_px;
+    }
+    return cepstrum_agrees == 1;
+  };
   const bool faint = axis.texture_snr < set.min_speed_texture_snr;
-  const bool lit_evidence = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit &&
-                            len.significance >= set.min_streak_significance_cold;
+  const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit;
+  const bool lit_evidence = lit_faint && len.significance >= set.min_streak_significance_cold;
   end.shorter_than_search = len.found && len.depth >= set.min_streak_depth &&
                             len.significance >= search.min_significance && len.length_px <= search.lo_px + 0.5;
-  end.clear = consistent && accepted && (!faint || lit_evidence);
+  end.clear = consistent && accepted && (!faint || lit_evidence || (lit_faint && !cold && vouched()));
+  const bool beyond_dark_max = pattern_out && len.length_px > set.dark_max_streak_px;
   end.has_speed = end.clear && len.length_px >= search.min_length_px &&
-                  !(pattern_out && len.length_px > set.dark_max_streak_px);
+                  !(beyond_dark_max && !(well_lit && vouched()));
+  // Two readings of one end, each off by its own texture: the speed takes
+  // their mean (the lag keeps its direction).
+  if (end.has_speed && cepstrum_agrees == 1) {
+    const double scale = 0.5 * (1.0 + cepstrum_px / len.length_px);
+    end.length.length_px *= scale;
+    end.length.d_row_px *= scale;
+    end.length.d_col_px *= scale;
+  }
   if (end.has_speed && cold) {
     end.has_speed = not_an_alias(gray, axis, len, search, pattern, pattern_out, axis_tan, ws);
     // An alias's lag is not on the axis either: (frame - L', -d_across).

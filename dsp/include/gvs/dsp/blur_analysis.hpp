@@ -137,6 +137,14 @@ class BlurAnalyzer {
   StreakLength streak_length(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
                              double max_px, double expected_px = 0.0, double axis_tan = 0.0);
 
+  /// The same streak end read from the power cepstrum, IDFT(log P) less
+  /// each ring's mean (see blur_cepstrum.cpp): the deepest negative point
+  /// along `axis` in [min_px, max_px]. Fills found, length_px, d_row_px,
+  /// d_col_px and depth (-C(L)/C(0)); not significance or background.
+  /// One more inverse DFT: for frames whose streak end needs vouching for.
+  StreakLength streak_length_cepstral(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
+                                      double max_px);
+
   /// Searches min_px <= |d| <= max_px in every direction. `gain`
   /// (optional): ring_gain() weights for each bin, for dark frames (see
   /// double_pulse.cpp).

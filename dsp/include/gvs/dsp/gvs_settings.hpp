@@ -135,6 +135,12 @@ struct GvsEstimatorSettings {
   /// texture SNR 1.5-6, while tracked ends of significance 3.5-4 at SNR
   /// 2.5-3 locked onto a fixed 151 px lag of a tiled texture (21 % long).
   double min_speed_texture_snr_lit = 1.5;
+  /// A well-lit frame's streak end short of the bars above (a tracked end
+  /// below min_streak_significance_cold at texture SNR under
+  /// min_speed_texture_snr, or beyond dark_max_streak_px) counts when the
+  /// power cepstrum's end (BlurAnalyzer::streak_length_cepstral) lies within
+  /// this fraction of its length.
+  double cepstrum_max_disagreement = 0.02;
   double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
   double min_streak_depth = 0.06;
   double min_streak_significance = 3.5;       ///< streak end over the ray's RMS
