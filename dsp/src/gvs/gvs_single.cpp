@@ -205,8 +205,9 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
     return cepstrum_agrees == 1;
   };
   const bool faint = axis.texture_snr < set.min_speed_texture_snr;
-  const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit;
-  const bool lit_evidence = lit_faint && len.significance >= set.min_streak_significance_cold;
+  const bool lit_evidence = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit &&
+                            len.significance >= set.min_streak_significance_cold;
+  const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_vouched;
   end.shorter_than_search = len.found && len.depth >= set.min_streak_depth &&
                             len.significance >= search.min_significance && len.length_px <= search.lo_px + 0.5;
   end.clear = consistent && accepted && (!faint || lit_evidence || (lit_faint && !cold && vouched()));

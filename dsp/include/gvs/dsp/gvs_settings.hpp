@@ -139,8 +139,12 @@ struct GvsEstimatorSettings {
   /// below min_streak_significance_cold at texture SNR under
   /// min_speed_texture_snr, or beyond dark_max_streak_px) counts when the
   /// power cepstrum's end (BlurAnalyzer::streak_length_cepstral) lies within
-  /// this fraction of its length.
+  /// this fraction of its length ...
   double cepstrum_max_disagreement = 0.02;
+  /// ... and, for a tracked faint end, its texture SNR is at least this
+  /// (the adaptive strobe keeps ph_asphalt_04's streaks at SNR 1.2-2; below
+  /// ~1 the frames are those whose streak outgrew the exposure).
+  double min_speed_texture_snr_vouched = 1.0;
   double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
   double min_streak_depth = 0.06;
   double min_streak_significance = 3.5;       ///< streak end over the ray's RMS
