@@ -95,16 +95,16 @@ TEST_P(PhotographedGround, FixedExposureAt130KmhGivesTheDirectionOfStreaksLonger
 
 TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFrames) {
   // 5-15 km/h with 3 ms: streaks of 40-125 px, which keep little of the
-  // ground's texture power (texture SNR 1.5-6 on these photographs) although
+  // ground's texture power (texture SNR 1-6 on these photographs) although
   // the frame is well lit. Clear streak ends give the speed, and faint ones
   // that the power cepstrum puts at the same length; none a wrong one. The
   // pixel pattern is learnt mostly from the blurred frames, so it does not
-  // hand back the sharper frames' ground (seed 2: 90-100 % of the frames,
+  // hand back the sharper frames' ground (seed 2: 97-100 % of the frames,
   // 48-100 % with neither).
   const RunScore s = fixed_exposure_run("accel", 2.2);
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 20);
-  EXPECT_GE(b.speed_coverage(), 0.85);
+  EXPECT_GE(b.speed_coverage(), 0.95);
   EXPECT_LE(b.speed_rms(), 0.01);
   for (const BandScore& band : s.bands) EXPECT_LE(band.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
@@ -155,14 +155,15 @@ TEST(PhotographedGroundGrain, StreakShorterThanTheSearchGivesNoConfidentDirectio
 TEST_P(PhotographedGround, AdaptiveStrobeAt130KmhGivesTheSpeedOfFaintStreaks) {
   // The adaptive strobe holds the streak at a few tens of pixels, where the
   // fine, even grains (ph_asphalt_04) leave a texture SNR of 1.2-2: the
-  // streak end counts when the power cepstrum puts it at the same length.
+  // streak end counts when the power cepstrum puts it at the same length
+  // (ph_asphalt_04: 97 %; 85 % from significance 6 and SNR 1.5 alone).
   // Scored after the cold start (0.37 s on torcs_wheel1: 3 ms, then the
   // exposure search halving down to the strobe).
   const RunScore s = run_at_130_kmh(dsp::ExposureMode::adaptive, 1.45, 0.45);
   const BandScore& b = s.bands[3];  // 60-140 km/h
   ASSERT_GT(b.frames, 40);
   EXPECT_GE(b.speed_coverage(), 0.95);
-  EXPECT_LE(b.speed_rms(), 0.015);  // ph_asphalt_04 1.0 %, the others 0.3-0.6 %
+  EXPECT_LE(b.speed_rms(), 0.01);  // ph_asphalt_04 0.8 %, the others 0.3-0.5 %
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
 }

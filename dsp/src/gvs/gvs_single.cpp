@@ -185,14 +185,12 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   // of 107-162 px were found 5-25 % short (6 frames; measurements: commit
   // 944efc3).
   // A well-lit frame with a faint texture is blurred, not dark (a streak of
-  // L px keeps about 1/L of the texture's power): its streak end counts at
-  // a lower texture SNR if it stands out as clearly as a start-up end must
-  // (docs/estimator.md, "Dark or blurred").
-  // Short of those bars on a well-lit frame, the end still counts when the
-  // power cepstrum, a reading of the same streak that weighs every zero of
-  // the blur alike, puts it at the same length (cepstrum_max_disagreement):
-  // a tracked faint end, and a lit frame's end beyond dark_max_streak_px
-  // (docs/estimator.md, "Faint streaks on well-lit ground").
+  // L px keeps about 1/L of the texture's power): its streak end counts down
+  // to min_speed_texture_snr_lit when the power cepstrum, a second reading
+  // of the same streak that weighs every zero of the blur alike, puts it at
+  // the same length (cepstrum_max_disagreement); so does a well-lit frame's
+  // end beyond dark_max_streak_px (docs/estimator.md, "Faint streaks on
+  // well-lit ground").
   int cepstrum_agrees = -1;  // not yet looked at
   double cepstrum_px = 0.0;
   const auto vouched = [&] {
@@ -205,12 +203,10 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
     return cepstrum_agrees == 1;
   };
   const bool faint = axis.texture_snr < set.min_speed_texture_snr;
-  const bool lit_evidence = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit &&
-                            len.significance >= set.min_streak_significance_cold;
-  const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_vouched;
+  const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit;
   end.shorter_than_search = len.found && len.depth >= set.min_streak_depth &&
                             len.significance >= search.min_significance && len.length_px <= search.lo_px + 0.5;
-  end.clear = consistent && accepted && (!faint || lit_evidence || (lit_faint && !cold && vouched()));
+  end.clear = consistent && accepted && (!faint || (lit_faint && vouched()));
   const bool beyond_dark_max = pattern_out && len.length_px > set.dark_max_streak_px;
   end.has_speed = end.clear && len.length_px >= search.min_length_px &&
                   !(beyond_dark_max && !(well_lit && vouched()));

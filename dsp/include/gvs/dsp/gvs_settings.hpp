@@ -130,21 +130,20 @@ struct GvsEstimatorSettings {
   /// (under-exposed long streaks) the streak end is found 10-60 % short.
   double min_speed_texture_snr = 4.0;
   /// ... on a well-lit frame (VelocityEstimate::well_lit()), whose streak
-  /// end then needs min_streak_significance_cold even while tracking: on
-  /// the photographed ground at 3 ms, ends of 36-100 px read within 2 % at
-  /// texture SNR 1.5-6, while tracked ends of significance 3.5-4 at SNR
-  /// 2.5-3 locked onto a fixed 151 px lag of a tiled texture (21 % long).
-  double min_speed_texture_snr_lit = 1.5;
-  /// A well-lit frame's streak end short of the bars above (a tracked end
-  /// below min_streak_significance_cold at texture SNR under
-  /// min_speed_texture_snr, or beyond dark_max_streak_px) counts when the
-  /// power cepstrum's end (BlurAnalyzer::streak_length_cepstral) lies within
-  /// this fraction of its length ...
-  double cepstrum_max_disagreement = 0.02;
-  /// ... and, for a tracked faint end, its texture SNR is at least this
-  /// (the adaptive strobe keeps ph_asphalt_04's streaks at SNR 1.2-2; below
-  /// ~1 the frames are those whose streak outgrew the exposure).
-  double min_speed_texture_snr_vouched = 1.0;
+  /// end then counts only when the power cepstrum's end
+  /// (BlurAnalyzer::streak_length_cepstral) lies within
+  /// cepstrum_max_disagreement of it. The adaptive strobe holds
+  /// ph_asphalt_04's streaks at SNR 1.2-2; below ~1 are frames whose streak
+  /// outgrew the exposure. Without the cepstrum, tracked ends of significance
+  /// 3.5-4 at SNR 2.5-3 locked onto a fixed 151 px lag of a tiled texture
+  /// (21 % long), and one of significance 6.8 at SNR 1.8 read 5.5 % long.
+  double min_speed_texture_snr_lit = 1.0;
+  /// How far apart (a fraction of the length) the cepstrum's end and the
+  /// streak end may lie for a faint end on a well-lit frame, or a well-lit
+  /// frame's end beyond dark_max_streak_px, to count; the length is then
+  /// their mean. (2 % kept 3-5 % fewer of ph_asphalt_04's adaptive frames
+  /// at the same RMS.)
+  double cepstrum_max_disagreement = 0.03;
   double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
   double min_streak_depth = 0.06;
   double min_streak_significance = 3.5;       ///< streak end over the ray's RMS
