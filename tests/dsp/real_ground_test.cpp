@@ -99,7 +99,7 @@ TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFra
   // the frame is well lit. Clear streak ends give the speed, and faint ones
   // that the power cepstrum puts at the same length; none a wrong one. The
   // pixel pattern is learnt mostly from the blurred frames, so it does not
-  // hand back the sharper frames' ground (seed 2: 97-100 % of the frames,
+  // hand back the sharper frames' ground (seed 2: 96.8-100 % of the frames,
   // 48-100 % with neither).
   const RunScore s = fixed_exposure_run("accel", 2.2);
   const BandScore& b = s.bands[1];  // 5-15 km/h
