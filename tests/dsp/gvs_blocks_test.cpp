@@ -117,7 +117,7 @@ TEST_P(StreakAnalysis, AxisAndLength) {
   EXPECT_GT(len.depth, 0.1);
 
   // The power cepstrum reads the same end (it vouches for faint ones; the
-  // estimator asks the two to agree within 2 %). Its first zero lies at
+  // estimator asks the two to agree within cepstrum_max_disagreement, 3 %). Its first zero lies at
   // |k.u| = 2 pi / L: from ~25 px several zeros fall in the band.
   if (s.length_px >= 25.0) {
     const StreakLength cep = blur.streak_length_cepstral(f, axis, 5.0, 160.0);

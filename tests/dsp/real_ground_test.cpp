@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -99,8 +100,7 @@ TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFra
   // the frame is well lit. Clear streak ends give the speed, and faint ones
   // that the power cepstrum puts at the same length; none a wrong one. The
   // pixel pattern is learnt mostly from the blurred frames, so it does not
-  // hand back the sharper frames' ground (seed 2: 96.8-100 % of the frames,
-  // 48-100 % with neither).
+  // hand back the sharper frames' ground (seed 2: 96.8-100 % of the frames).
   const RunScore s = fixed_exposure_run("accel", 2.2);
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 20);
@@ -110,6 +110,20 @@ TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFra
   EXPECT_EQ(s.confident_bad, 0);
 }
 
+/// `scenario`'s first `seconds` on `photo`, seed `seed`, in `mode`, scored
+/// (and printed under `title`) against the truth.
+RunScore grain_run(const char* photo, const char* scenario, double seconds, std::uint64_t seed,
+                   dsp::ExposureMode mode, const char* title) {
+  drivers::SimulatorConfig c;
+  c.scenario = scenario;
+  c.seconds = seconds;
+  c.seed = seed;
+  c.ground = photo_ground(photo);
+  RunScore s = run_and_score(c, mode);
+  print_score(title, s);
+  return s;
+}
+
 TEST(PhotographedGroundGrain, WeaklyElongatedSpectrumTiltedByTheGrainStillFindsTheStreakEnd) {
   // acg_Asphalt025C has a grain of its own: at 2 m/s and 60 deg (crawl,
   // 60 px streaks with 3 ms, anisotropy 0.76-0.8, axis not refined) it tilts
@@ -117,13 +131,8 @@ TEST(PhotographedGroundGrain, WeaklyElongatedSpectrumTiltedByTheGrainStillFindsT
   // beside the ray along that axis. The end must still be found, not a
   // weaker dip of the texture on the ray (a search along the ray alone reads
   // seed 2's frames 276-305 22-42 % slow and up to 6.5 deg off).
-  drivers::SimulatorConfig c;
-  c.scenario = "crawl";
-  c.seconds = 5.2;
-  c.seed = 2;
-  c.ground = photo_ground("acg_Asphalt025C_1024.png");
-  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
-  print_score("acg_Asphalt025C crawl", s);
+  const RunScore s =
+      grain_run("acg_Asphalt025C_1024.png", "crawl", 5.2, 2, dsp::ExposureMode::fixed, "acg_Asphalt025C crawl");
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 60);
   EXPECT_GE(b.speed_coverage(), 0.9);
@@ -138,13 +147,8 @@ TEST(PhotographedGroundGrain, StreakShorterThanTheSearchGivesNoConfidentDirectio
   // shortest length (16 px). torcs_wheel1's grain tilts the spectrum of so
   // short a streak by 1.7-2.1 deg (seed 2's frames 5, 16 and 23): such a
   // direction must not go out as confident.
-  drivers::SimulatorConfig c;
-  c.scenario = "spin";
-  c.seconds = 0.45;
-  c.seed = 2;
-  c.ground = photo_ground("torcs_wheel1_asphalt2_1024.png");
-  const RunScore s = run_and_score(c, dsp::ExposureMode::adaptive);
-  print_score("torcs_wheel1 spin adaptive", s);
+  const RunScore s = grain_run("torcs_wheel1_asphalt2_1024.png", "spin", 0.45, 2, dsp::ExposureMode::adaptive,
+                               "torcs_wheel1 spin adaptive");
   ASSERT_GT(s.bands[2].frames, 20);  // 15-60 km/h
   // The direction is still given, at a low quality (the first frames, 8 px
   // streaks, give none: short-streak).
@@ -157,14 +161,9 @@ TEST(PhotographedGroundGrain, AStreakOutgrowingTheWindowIsNotReadAtATroughOfTheG
   // 133) outgrows the 161 px measurable along the columns while the search
   // still looks near the last speed. torcs_wheel1's grain has a trough of
   // its own at 137 px, in the streak end's autocorrelation and in the
-  // power cepstrum alike: it must give no speed (it read 19 % slow).
-  drivers::SimulatorConfig c;
-  c.scenario = "accel";
-  c.seconds = 2.5;
-  c.seed = 3;
-  c.ground = photo_ground("torcs_wheel1_asphalt2_1024.png");
-  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
-  print_score("torcs_wheel1 accel seed 3", s);
+  // power cepstrum alike: it must give no speed (it is 19 % short).
+  const RunScore s = grain_run("torcs_wheel1_asphalt2_1024.png", "accel", 2.5, 3, dsp::ExposureMode::fixed,
+                               "torcs_wheel1 accel seed 3");
   ASSERT_GT(s.bands[2].frames, 20);  // 15-60 km/h
   for (const BandScore& band : s.bands) EXPECT_LE(band.speed_max, 0.05);
   EXPECT_GE(s.bands[1].speed_coverage(), 0.95);  // 5-15 km/h
@@ -174,7 +173,7 @@ TEST_P(PhotographedGround, AdaptiveStrobeAt130KmhGivesTheSpeedOfFaintStreaks) {
   // The adaptive strobe holds the streak at a few tens of pixels, where the
   // fine, even grains (ph_asphalt_04) leave a texture SNR of 1.2-2: the
   // streak end counts when the power cepstrum puts it at the same length
-  // (ph_asphalt_04: 97 %; 85 % from significance 6 and SNR 1.5 alone).
+  // (ph_asphalt_04: 97 % of the frames).
   // Scored after the cold start (0.37 s on torcs_wheel1: 3 ms, then the
   // exposure search halving down to the strobe).
   const RunScore s = run_at_130_kmh(dsp::ExposureMode::adaptive, 1.45, 0.45);
