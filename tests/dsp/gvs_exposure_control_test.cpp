@@ -1,6 +1,8 @@
 // next_exposure(): the exposure / strobe plan follows the speed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "gvs/dsp/exposure_control.hpp"
@@ -113,10 +115,14 @@ TEST(ExposureControl, AdaptiveLengthensWhenTheStreakIsTooShortForADirection) {
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(5.0), ExposureMode::adaptive, lim).exposure_us, 20.0);
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(1000.0), ExposureMode::adaptive, lim).exposure_us,
                    lim.max_exposure_us);
-  // Without one (the end of a sweep): the sweep starts again from the top.
+  // Without one (the end of a sweep): the sweep starts again near the top,
+  // a third of an octave below where the ended one began (5 us is
+  // 3000 us / 2^9.23, nearest 2381 us / 2^9: the next starts at 1890 us).
   short_streak.tracking = false;
-  EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(5.0), ExposureMode::adaptive, lim).exposure_us,
-                   lim.max_exposure_us);
+  EXPECT_NEAR(next_exposure(short_streak, continuous_us(5.0), ExposureMode::adaptive, lim).exposure_us,
+              3000.0 / std::cbrt(4.0), 1e-6);
+  EXPECT_NEAR(next_exposure(short_streak, continuous_us(3000.0 / 128.0), ExposureMode::adaptive, lim).exposure_us,
+              3000.0 / std::cbrt(2.0), 1e-6);
   // Already at the longest exposure: a slow car (the frame pairs measure it).
   EXPECT_DOUBLE_EQ(next_exposure(short_streak, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us,
                    3000.0);
@@ -207,6 +213,38 @@ TEST(ExposureControl, AdaptiveFindsTheOneMeasurableOctaveFromAColdStart) {
   EXPECT_EQ(frames_to_speed, 3);  // 3000, 1500, 750 us, then 375 us: 56 px
 }
 
+TEST(ExposureControl, AdaptiveFindsANarrowMeasurableBandBetweenTheOctaves) {
+  // A cold start at 15 m/s on ground whose streak is measured only at
+  // 40-48 px (267-320 us), between two octaves of 3000 us (375 us: 56 px,
+  // 187.5 us: 28 px); a direction without speed elsewhere, too long above
+  // 100 px (torcs_etrack2 `spin` adaptive: a cold start measures a narrow
+  // band). A sweep restarted at the same exposure would try 56 and 28 px
+  // forever; one restarted a third of an octave lower reaches 297.6 us
+  // (44.6 px) in its second sweep.
+  const ExposureLimits lim;
+  const double v_mps = 15.0;
+  auto estimate_at = [&](double t_us) {
+    const double streak = streak_px(v_mps, t_us);
+    if (streak >= 40.0 && streak <= 48.0) return moving(v_mps);
+    VelocityEstimate e = streak > 100.0  ? direction_only(Method::streak_cont)
+                         : streak < 10.0 ? no_estimate(0, 0, Method::short_streak)
+                                         : direction_only(Method::blur_cont);
+    e.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 10.0;  // well lit
+    return e;
+  };
+  ExposurePlan plan = continuous_us(lim.max_exposure_us);
+  int frames_to_speed = -1;
+  for (int i = 0; i < 60 && frames_to_speed < 0; ++i) {
+    const VelocityEstimate e = estimate_at(plan.exposure_us);
+    if (e.has_speed) frames_to_speed = i;
+    if (frames_to_speed < 0) plan = next_exposure(e, plan, ExposureMode::adaptive, lim);
+  }
+  // 3000 .. 46.9 us (frames 0-6; 7 px: too short for a direction), then
+  // 2381, 1191, 595 and 298 us.
+  EXPECT_EQ(frames_to_speed, 10);
+  EXPECT_NEAR(plan.exposure_us, 3000.0 / std::cbrt(2.0) / 8.0, 1e-9);
+}
+
 TEST(ExposureControl, DoublePulseLeavesTheContinuousExposureWhenAWellLitStreakGivesNoSpeed) {
   // 3 ms at 11-87 km/h on low-contrast ground: a direction (blur-cont) but
   // no streak length. Without this rule the plan stayed at 3 ms for good.
@@ -231,8 +269,25 @@ TEST(ExposureControl, AdaptiveSweepsTheOctavesWhenNoSpeedComes) {
     visited.push_back(plan.exposure_us);
   }
   const std::vector<double> expected{375.0, 187.5, 93.75, 46.875, 23.4375, 11.71875, 5.859375,
-                                     2.9296875, 3000.0, 3000.0, 3000.0, 3000.0};
-  EXPECT_EQ(visited, expected);
+                                     2.9296875, 3000.0 / std::cbrt(2.0)};
+  ASSERT_EQ(visited.size(), 12u);
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(visited[i], expected[i], 1e-9) << "frame " << i;
+  // The next sweep halves from 2381 us: it tries the lengths a third of an
+  // octave below the first one's.
+  EXPECT_NEAR(visited[9], 3000.0 / std::cbrt(2.0) / 2.0, 1e-9);
+  // Its end starts a third sweep from 1890 us, and that one's from 3000 us
+  // (continuous light), where a dim direction without a speed is a slow car:
+  // held.
+  for (int i = 0; i < 25; ++i) {
+    plan = next_exposure(direction_only(Method::blur_fwd, 0.1), plan, ExposureMode::adaptive, lim);
+    visited.push_back(plan.exposure_us);
+  }
+  const auto near = [&](double t_us) {
+    return std::any_of(visited.begin(), visited.end(), [&](double v) { return std::abs(v - t_us) < 1e-6; });
+  };
+  EXPECT_TRUE(near(3000.0 / std::cbrt(4.0)));
+  EXPECT_EQ(visited.back(), 3000.0);
+  EXPECT_EQ(plan.pulse_count, 0u);
   // A frame with texture but no match at all (streak too short to show a
   // direction) continues the sweep too; a dark frame does not.
   EXPECT_EQ(next_exposure(no_estimate(0, 0, Method::no_match), continuous_us(100.0), ExposureMode::adaptive, lim)
@@ -268,10 +323,12 @@ TEST(ExposureControl, FramesInFlightDoNotStepTwice) {
                 .exposure_us,
             1500.0);
   // At the bottom, a frame still at the shortest octave repeats the restart.
-  EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), continuous_us(2.9296875), continuous_us(3000.0),
+  const ExposurePlan restart = next_exposure(direction_only(Method::blur_cont), continuous_us(2.9296875),
+                                             continuous_us(2.9296875), ExposureMode::adaptive, lim);
+  EXPECT_EQ(next_exposure(direction_only(Method::blur_cont), continuous_us(2.9296875), restart,
                           ExposureMode::adaptive, lim)
                 .exposure_us,
-            3000.0);
+            restart.exposure_us);
 }
 
 TEST(ExposureControl, LowQualityAndNothingMeasuredKeepThePlan) {

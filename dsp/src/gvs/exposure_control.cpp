@@ -2,6 +2,7 @@
 #include "gvs/dsp/exposure_control.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace gvs::dsp {
@@ -95,6 +96,22 @@ ExposureLimits fitted(const ExposureLimits& lim) {
   return l;
 }
 
+/// Where a sweep without a speed starts again, from the light time of the
+/// frame that ended it: the longest exposure lowered by a third of an octave
+/// more than the sweep before (3000, 2381, 1890, 3000, ... us), i.e.
+/// max * 2^-k/3 with k = (round(3 log2(max / t_frame)) + 1) mod 3. Every
+/// sweep halves, so restarting from the same exposure would try the same few
+/// streak lengths forever; on ground where a cold start (no earlier speed to
+/// search around) measures only a narrow band of lengths, a sweep whose
+/// octaves all miss it then never finds a speed (docs/estimator.md,
+/// "Exposure control"). Three phases put a tried length within 2^(1/6)
+/// (12 %) of any length in every three sweeps.
+ExposurePlan sweep_restart(double t_frame_us, const ExposureLimits& lim) {
+  const double thirds = std::round(3.0 * std::log2(lim.max_exposure_us / std::max(t_frame_us, 1e-9)));
+  const long phase = (static_cast<long>(thirds) % 3 + 3 + 1) % 3;
+  return single_strobe(lim.max_exposure_us * std::exp2(-static_cast<double>(phase) / 3.0), lim);
+}
+
 ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& frame,
                            const ExposurePlan& current, const ExposureLimits& lim) {
   const double t_cur = lit_us(current);
@@ -131,9 +148,10 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
     // No direction: a streak of a few pixels. With a recent speed (the car
     // slowed faster than the plan followed) lengthen hard: x4 puts a 15 px
     // streak at 60 px, inside the band. Without one, start the sweep again
-    // from the top: lengthening from where a sweep ended would cycle over
-    // the same few octaves below the one the estimator can measure.
-    if (!latest.tracking) return continuous(lim.max_exposure_us);
+    // near the top (sweep_restart): lengthening from where a sweep ended
+    // would cycle over the same few octaves below the one the estimator can
+    // measure.
+    if (!latest.tracking) return sweep_restart(t_frame, lim);
     return single_strobe(std::clamp(t_frame * 4.0, lim.min_pulse_us, lim.max_exposure_us), lim);
   }
   // At the longest exposure a well-lit streak with a direction and no speed
@@ -144,14 +162,15 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
     // A shortened exposure that gives no speed: the streak may be still too
     // long, too short, or too faint for the estimator's stricter start-up
     // test (no earlier speed to search around). Step down an octave per frame
-    // and start again from the longest exposure below the shortest pulse:
-    // every octave is visited, and one of them puts the streak in the
-    // measurable band. At the longest exposure a frame without a direction
-    // (or a dim one) means a slow car (the frame pairs measure it), so the
-    // plan is held there; and a miss while the estimator still tracks a
-    // recent speed holds it too.
+    // and start again near the longest exposure below the shortest pulse
+    // (sweep_restart: a third of an octave lower each time): every octave is
+    // visited, and one of them puts the streak in the measurable band. At
+    // the longest exposure a frame without a direction (or a dim one) means
+    // a slow car (the frame pairs measure it), so the plan is held there;
+    // and a miss while the estimator still tracks a recent speed holds it
+    // too.
     const double t_next = t_frame / 2.0;
-    return single_strobe(t_next < lim.min_pulse_us ? lim.max_exposure_us : t_next, lim);
+    return t_next < lim.min_pulse_us ? sweep_restart(t_frame, lim) : single_strobe(t_next, lim);
   }
   if (latest.quality < lim.min_quality) return current;
   if (latest.has_speed) {
