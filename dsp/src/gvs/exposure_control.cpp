@@ -156,7 +156,11 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
   }
   // At the longest exposure a well-lit streak with a direction and no speed
   // is long, not short (a short one gives Method::short_streak): sweep down.
-  const bool long_unmeasured = latest.has_direction && latest.well_lit();
+  // Not a doubtful one (below min_quality, as every estimate that changes
+  // the plan): a run's first frame has no pair and no sign yet, and a slow
+  // car's short streak there is measured by the next frame's pair at the
+  // same exposure (pairs of unequal exposures do not match on every ground).
+  const bool long_unmeasured = latest.has_direction && latest.well_lit() && latest.quality >= lim.min_quality;
   if (moving_without_speed(latest) && !latest.tracking &&
       (t_frame < lim.max_exposure_us * 0.99 || long_unmeasured)) {
     // A shortened exposure that gives no speed: the streak may be still too
@@ -227,8 +231,12 @@ ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePla
   }
   // At the continuous exposure a well-lit direction without a speed, with
   // no recent one, is a streak the estimator cannot measure: as too long.
+  // Not a doubtful one (below min_quality, as every estimate that changes
+  // the plan): a run's first frame, or the first after double-pulse frames,
+  // has no pair and no sign yet, and a slow car's short streak there is
+  // measured by the next frame's pair at the same exposure.
   const bool long_unmeasured = frame.pulse_count < 2 && latest.has_direction && !latest.has_speed &&
-                               latest.well_lit() && !latest.tracking;
+                               latest.well_lit() && !latest.tracking && latest.quality >= lim.min_quality;
   if (streak_too_long(latest) || long_unmeasured || (moving_without_speed(latest) && frame.pulse_count >= 2)) {
     // Direction without speed: streak or displacement too long.
     const double v_guess = px_per_us(30.0, lim);  // assume fast: 108 km/h
@@ -236,10 +244,13 @@ ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePla
         lim.target_shift_px / v_guess, std::max(lim.min_pulse_us, lim.max_pulse_blur_px / v_guess), lim);
     if (frame.pulse_count >= 2) {
       // Shorter separation, from the measured frame's (in-flight frames
-      // repeat the plan already made); when it cannot shrink any more, start
-      // again from the fast guess.
+      // repeat the plan already made); when it cannot shrink any more, the
+      // car may be too slow for any separation (1 km/h moves the ground
+      // 1 px in 360 us): the continuous exposure, where consecutive frames
+      // overlap and the pairs measure, and from there a clear streak
+      // without a speed starts again from the fast guess.
       const double sep = pulse_separation_us(frame) / 3.0;
-      if (sep < 2.0 * frame.pulses[0].duration_us) return restart;
+      if (sep < 2.0 * frame.pulses[0].duration_us) return continuous(lim.max_exposure_us);
       return double_pulse_plan(sep, frame.pulses[0].duration_us, lim);
     }
     return restart;
