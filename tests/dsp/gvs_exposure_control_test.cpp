@@ -205,62 +205,57 @@ TEST(ExposureControl, AdaptiveWaitsForThePairOnADoubtfulFirstStreak) {
             1500.0);
 }
 
-TEST(ExposureControl, AdaptiveFindsTheOneMeasurableOctaveFromAColdStart) {
-  // A cold start at 15 m/s on ground whose streak is measured only at
-  // 50-70 px (333-467 us): too long above 100 px, a direction without speed
-  // between, no direction below 10 px. The sweep must reach the band, not
-  // cycle over the octaves below it.
+/// A cold start at 15 m/s, well lit, on ground whose streak gives a speed
+/// only at lengths in [lo_px, hi_px]: too long above 100 px, no direction
+/// below 10 px, a direction without speed between. Runs the adaptive loop
+/// from the longest exposure; the frame index of the first speed (-1:
+/// none in max_frames) and the plan that gave it.
+struct ColdStart {
+  int frames_to_speed = -1;
+  ExposurePlan plan;
+};
+ColdStart cold_start(double lo_px, double hi_px, int max_frames) {
   const ExposureLimits lim;
   const double v_mps = 15.0;
   auto estimate_at = [&](double t_us) {
     const double streak = streak_px(v_mps, t_us);
-    if (streak >= 50.0 && streak <= 70.0) return moving(v_mps);
+    if (streak >= lo_px && streak <= hi_px) return moving(v_mps);
     VelocityEstimate e = streak > 100.0  ? direction_only(Method::streak_cont)
                          : streak < 10.0 ? no_estimate(0, 0, Method::short_streak)
                                          : direction_only(Method::blur_cont);
     e.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 10.0;  // well lit
     return e;
   };
-  ExposurePlan plan = continuous_us(lim.max_exposure_us);
-  int frames_to_speed = -1;
-  for (int i = 0; i < 40 && frames_to_speed < 0; ++i) {
-    const VelocityEstimate e = estimate_at(plan.exposure_us);
-    if (e.has_speed) frames_to_speed = i;
-    plan = next_exposure(e, plan, ExposureMode::adaptive, lim);
+  ColdStart run;
+  run.plan = continuous_us(lim.max_exposure_us);
+  for (int i = 0; i < max_frames; ++i) {
+    const VelocityEstimate e = estimate_at(run.plan.exposure_us);
+    if (e.has_speed) {
+      run.frames_to_speed = i;
+      break;
+    }
+    run.plan = next_exposure(e, run.plan, ExposureMode::adaptive, lim);
   }
-  EXPECT_EQ(frames_to_speed, 3);  // 3000, 1500, 750 us, then 375 us: 56 px
+  return run;
+}
+
+TEST(ExposureControl, AdaptiveFindsTheOneMeasurableOctaveFromAColdStart) {
+  // Measured only at 50-70 px (333-467 us): the sweep must reach the band,
+  // not cycle over the octaves below it.
+  EXPECT_EQ(cold_start(50.0, 70.0, 40).frames_to_speed, 3);  // 3000, 1500, 750 us, then 375 us: 56 px
 }
 
 TEST(ExposureControl, AdaptiveFindsANarrowMeasurableBandBetweenTheOctaves) {
-  // A cold start at 15 m/s on ground whose streak is measured only at
-  // 40-48 px (267-320 us), between two octaves of 3000 us (375 us: 56 px,
-  // 187.5 us: 28 px); a direction without speed elsewhere, too long above
-  // 100 px (torcs_etrack2 `spin` adaptive: a cold start measures a narrow
-  // band). A sweep restarted at the same exposure would try 56 and 28 px
-  // forever; one restarted a third of an octave lower reaches 297.6 us
-  // (44.6 px) in its second sweep.
-  const ExposureLimits lim;
-  const double v_mps = 15.0;
-  auto estimate_at = [&](double t_us) {
-    const double streak = streak_px(v_mps, t_us);
-    if (streak >= 40.0 && streak <= 48.0) return moving(v_mps);
-    VelocityEstimate e = streak > 100.0  ? direction_only(Method::streak_cont)
-                         : streak < 10.0 ? no_estimate(0, 0, Method::short_streak)
-                                         : direction_only(Method::blur_cont);
-    e.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 10.0;  // well lit
-    return e;
-  };
-  ExposurePlan plan = continuous_us(lim.max_exposure_us);
-  int frames_to_speed = -1;
-  for (int i = 0; i < 60 && frames_to_speed < 0; ++i) {
-    const VelocityEstimate e = estimate_at(plan.exposure_us);
-    if (e.has_speed) frames_to_speed = i;
-    if (frames_to_speed < 0) plan = next_exposure(e, plan, ExposureMode::adaptive, lim);
-  }
+  // Measured only at 40-48 px (267-320 us), between two octaves of 3000 us
+  // (375 us: 56 px, 187.5 us: 28 px) (torcs_etrack2 `spin` adaptive: a cold
+  // start measures a narrow band). A sweep restarted at the same exposure
+  // would try 56 and 28 px forever; one restarted a third of an octave
+  // lower reaches 297.6 us (44.6 px) in its second sweep.
+  const ColdStart run = cold_start(40.0, 48.0, 60);
   // 3000 .. 46.9 us (frames 0-6; 7 px: too short for a direction), then
   // 2381, 1191, 595 and 298 us.
-  EXPECT_EQ(frames_to_speed, 10);
-  EXPECT_NEAR(plan.exposure_us, 3000.0 / std::cbrt(2.0) / 8.0, 1e-9);
+  EXPECT_EQ(run.frames_to_speed, 10);
+  EXPECT_NEAR(run.plan.exposure_us, 3000.0 / std::cbrt(2.0) / 8.0, 1e-9);
 }
 
 TEST(ExposureControl, DoublePulseLeavesTheContinuousExposureWhenAWellLitStreakGivesNoSpeed) {
