@@ -147,6 +147,17 @@ std::vector<EstimatorStage> make_stages() {
                  };
                },
                frames});
+  s.push_back({"streak_length_cepstral", "strobed", "streak length from the power cepstrum (faint or rival ends)",
+               [set](const StageInputs& in) -> Step {
+                 auto blur = std::make_shared<dsp::BlurAnalyzer>(in.size);
+                 auto axes = std::make_shared<std::vector<dsp::StreakAxis>>();
+                 for (const cv::Mat& sp : in.spectrum) axes->push_back(blur->streak_axis(sp));
+                 return [&in, blur, axes, set](std::size_t i) {
+                   g_sink =
+                       blur->streak_length_cepstral(in.spectrum[i], (*axes)[i], set.min_streak_search_px, 300.0).length_px;
+                 };
+               },
+               frames});
   s.push_back({"double_image", "double_pulse", "double image",
                [](const StageInputs& in) -> Step {
                  auto blur = std::make_shared<dsp::BlurAnalyzer>(in.size);

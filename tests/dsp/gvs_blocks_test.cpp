@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <utility>
+#include <vector>
 
 #include "gvs/dsp/blur_analysis.hpp"
 #include "gvs/dsp/frame_check.hpp"
@@ -131,6 +132,38 @@ INSTANTIATE_TEST_SUITE_P(Angles, StreakAnalysis,
                          ::testing::Values(StreakCase{0.0, 40.0}, StreakCase{17.0, 60.0},
                                            StreakCase{45.0, 25.0}, StreakCase{90.0, 80.0},
                                            StreakCase{-62.5, 120.0}, StreakCase{133.0, 12.0}));
+
+// Two streak ends as deep (here two equally bright exposures of one patch,
+// 60 and 75 px long): the surface alone cannot tell which is the streak's.
+// They are reported as rivals; the expected length chooses which one is
+// returned, and the estimator asks the cepstrum (gvs_single.cpp).
+TEST(StreakAnalysis, TwoEndsAsDeepAreRivals) {
+  const double a = deg_to_rad(17.0);
+  const test::Sensor sensor;
+  WindowedSpectrum spectrum(kFrame);
+  BlurAnalyzer blur(kFrame);
+  cv::Mat f;
+  const cv::Mat one = test::render_frame(texture(), kFrame, 0, 0, 0, std::cos(a), std::sin(a), 0,
+                                         test::continuous(75.0), sensor, 5);
+  spectrum.compute(one, f);
+  const StreakAxis axis_one = blur.streak_axis(f);
+  const StreakLength single = blur.streak_length(f, axis_one, 20.0, 160.0, 72.0);
+  ASSERT_TRUE(single.found);
+  EXPECT_NEAR(single.length_px, 75.0, 0.75);
+  EXPECT_EQ(single.rivals, 0);
+
+  const std::vector<test::Pulse> two = {{0.0, 60.0, 1.0}, {0.0, 75.0, 1.0}};
+  const cv::Mat both = test::render_frame(texture(), kFrame, 0, 0, 0, std::cos(a), std::sin(a), 0, two, sensor, 5);
+  spectrum.compute(both, f);
+  const StreakAxis axis = blur.streak_axis(f);
+  for (const double expected_px : {60.0, 75.0}) {
+    const StreakLength len = blur.streak_length(f, axis, 20.0, 160.0, expected_px);
+    ASSERT_TRUE(len.found);
+    std::printf("ends at 60 and 75 px, expected %.0f: %.2f px, %d rival(s)\n", expected_px, len.length_px, len.rivals);
+    EXPECT_NEAR(len.length_px, expected_px, 1.0);
+    EXPECT_GE(len.rivals, 1);
+  }
+}
 
 // Over many patches of ground, the streak end is found where it is (no
 // pull towards lag 0 from the window, no tilt from coarse texture) and

@@ -11,6 +11,7 @@
 #include <map>
 #include <string>
 
+#include "gvs/can/codec.hpp"
 #include "gvs/drivers/simulator.hpp"
 #include "gvs/dsp/exposure_control.hpp"
 #include "gvs/dsp/vocabulary.hpp"
@@ -54,6 +55,9 @@ struct RunScore {
   int frames = 0;
   /// Frames whose direction is off by > 1 deg or speed by > 5 %, yet quality >= 0.5.
   int confident_bad = 0;
+  /// Frames whose speed is off by > 5 % (truth >= 1 km/h) at a quality the
+  /// bus sends as valid (can::ValidityRule's default min_quality): must be 0.
+  int valid_speed_off = 0;
   double estimate_ms_total = 0.0;  ///< wall time inside estimate()
   [[nodiscard]] double yaw_rms() const { return yaw_frames ? std::sqrt(yaw_sq / yaw_frames) : 0.0; }
 };
@@ -124,6 +128,9 @@ inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, d
       s.speed_sq += rel * rel;
       s.speed_max = std::max(s.speed_max, rel);
       bad = bad || rel > 0.05;
+      if (rel > 0.05 && t.speed_mps >= 1.0 / 3.6 && can::quality_passes(e.quality, can::ValidityRule{}.min_quality)) {
+        ++score.valid_speed_off;
+      }
     }
     if (bad && e.quality >= 0.5) ++score.confident_bad;
   }
@@ -153,6 +160,7 @@ inline void print_score(const char* title, const RunScore& s) {
   }
   if (s.yaw_frames > 0) std::printf("  yaw rate on %d frames, rms error %.2f deg/s\n", s.yaw_frames, s.yaw_rms());
   std::printf("  frames off by > 1 deg or > 5 %% with quality >= 0.5: %d\n", s.confident_bad);
+  std::printf("  speeds off by > 5 %% valid on the bus: %d\n", s.valid_speed_off);
   if (s.frames > 0) std::printf("  estimate(): %.2f ms per frame (mean)\n", s.estimate_ms_total / s.frames);
   std::printf("  methods:");
   for (const auto& [m, n] : s.methods) std::printf(" %s=%d", m.c_str(), n);

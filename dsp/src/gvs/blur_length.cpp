@@ -98,12 +98,12 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
     }
   }
   if (best >= 0.0) return out;
+  const double deepest = best;
   // Two streak ends nearly as deep (texture grain can make a second one):
   // with an expected length, take the local minimum nearest to it among
   // those at least 85 % as deep as the deepest and at least 4 px from it
   // (a distinct end, not a ripple of the same one).
   if (expected_px > 0.0) {
-    const double deepest = best;
     const double deepest_t = best_t;
     for (std::size_t i = 1; i + 1 < n_ray; ++i) {
       const double v = ray_[i];
@@ -115,6 +115,15 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
         best_t = t;
         best_across = ray_across_[i];
       }
+    }
+  }
+  // Rivals: the other ends as deep (the deepest among them, when the
+  // expected length chose another), whichever end was chosen.
+  for (std::size_t i = 1; i + 1 < n_ray; ++i) {
+    const double v = ray_[i];
+    const double t = min_px + 0.5 * static_cast<double>(i);
+    if (v <= ray_[i - 1] && v <= ray_[i + 1] && v <= 0.85 * deepest && std::abs(t - best_t) >= 4.0) {
+      ++out.rivals;
     }
   }
   // Background level: median |A| along the whole ray beyond the central lobe

@@ -135,6 +135,9 @@ struct StreakEnd {
   /// The deepest end, deep and significant, lies at the search's shortest
   /// length: the streak is that short or shorter.
   bool shorter_than_search = false;
+  /// Ends as deep as this one that the cepstrum did not decide between: no
+  /// speed, and not a streak too long to measure either.
+  bool ambiguous = false;
 };
 
 /// The surface is circular: a streak end at lag L' also shows at lag
@@ -174,6 +177,41 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
     end.length =
         ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, search.expected_px, axis_tan);
   }
+  // The power cepstrum: a second reading of the same streak that weighs
+  // every zero of the blur alike, looked at only where needed.
+  int cepstrum_agrees = -1;  // not yet looked at
+  double cepstrum_px = 0.0;
+  const auto vouched = [&] {
+    // The cepstrum sees the ground's own troughs too (a fixed lag of its
+    // grain): it vouches only where the window holds every length the
+    // recent speed allows, not for a trough found below a streak that may
+    // have outgrown the window (torcs_wheel1 `accel` seed 3, frame 133:
+    // 137 px from both readings for 170 px, beyond the 161 px measurable).
+    if (search.clipped) return false;
+    if (cepstrum_agrees < 0) {
+      const StreakLength c = ws.blur.streak_length_cepstral(ws.spectrum, axis, search.lo_px, search.hi_px);
+      cepstrum_px = c.found ? c.length_px : 0.0;
+      cepstrum_agrees = c.found && std::abs(c.length_px - len.length_px) <=
+                                       set.cepstrum_max_disagreement * len.length_px;
+    }
+    return cepstrum_agrees == 1;
+  };
+  // Rival ends as deep as the chosen one: the length the recent speed
+  // predicts cannot choose, it lags an accelerating car (`const adaptive
+  // under` seed 1 frame 309: a trough at 70 px chosen for 70 px predicted,
+  // the streak's at 75 px, 6 % slow at quality 0.39). The cepstrum
+  // decides: the end nearest to its length, and no speed unless they agree.
+  end.ambiguous = len.found && len.rivals > 0 && !vouched();
+  if (end.ambiguous && cepstrum_px > 0.0) {
+    const StreakLength nearest =
+        ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, cepstrum_px, axis_tan);
+    if (nearest.found &&
+        std::abs(nearest.length_px - cepstrum_px) <= set.cepstrum_max_disagreement * nearest.length_px) {
+      end.length = nearest;
+      cepstrum_agrees = 1;
+      end.ambiguous = false;
+    }
+  }
   // Without a recent speed, the length must also agree with how elongated the
   // spectrum is (anisotropy grows with L: ~0.85 at 40 px, ~0.97 at 150 px on
   // asphalt): a short "streak end" in a spectrum of endless streaks is texture.
@@ -190,35 +228,17 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   // 944efc3).
   // A well-lit frame with a faint texture is blurred, not dark (a streak of
   // L px keeps about 1/L of the texture's power): its streak end counts down
-  // to min_speed_texture_snr_lit when the power cepstrum, a second reading
-  // of the same streak that weighs every zero of the blur alike, puts it at
-  // the same length (cepstrum_max_disagreement); so does a well-lit frame's
-  // end beyond dark_max_streak_px (docs/estimator.md, "Faint streaks on
+  // to min_speed_texture_snr_lit when the cepstrum puts it at the same
+  // length (cepstrum_max_disagreement); so does a well-lit frame's end
+  // beyond dark_max_streak_px (docs/estimator.md, "Faint streaks on
   // well-lit ground").
-  int cepstrum_agrees = -1;  // not yet looked at
-  double cepstrum_px = 0.0;
-  const auto vouched = [&] {
-    // The cepstrum sees the ground's own troughs too (a fixed lag of its
-    // grain): it vouches only where the window holds every length the
-    // recent speed allows, not for a trough found below a streak that may
-    // have outgrown the window (torcs_wheel1 `accel` seed 3, frame 133:
-    // 137 px from both readings for 170 px, beyond the 161 px measurable).
-    if (search.clipped) return false;
-    if (cepstrum_agrees < 0) {
-      const StreakLength c = ws.blur.streak_length_cepstral(ws.spectrum, axis, search.lo_px, search.hi_px);
-      cepstrum_px = c.length_px;
-      cepstrum_agrees = c.found && std::abs(c.length_px - len.length_px) <=
-                                       set.cepstrum_max_disagreement * len.length_px;
-    }
-    return cepstrum_agrees == 1;
-  };
   const bool faint = axis.texture_snr < set.min_speed_texture_snr;
   const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit;
   end.shorter_than_search = len.found && len.depth >= set.min_streak_depth &&
                             len.significance >= search.min_significance && len.length_px <= search.lo_px + 0.5;
   end.clear = consistent && accepted && (!faint || (lit_faint && vouched()));
   const bool beyond_dark_max = pattern_out && len.length_px > set.dark_max_streak_px;
-  end.has_speed = end.clear && len.length_px >= search.min_length_px &&
+  end.has_speed = end.clear && !end.ambiguous && len.length_px >= search.min_length_px &&
                   !(beyond_dark_max && !(well_lit && vouched()));
   // Two readings of one end, each off by its own texture: the speed takes
   // their mean (the lag keeps its direction).
@@ -385,7 +405,7 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   set_streak_velocity(e, a, sign.sign, end, m_per_px, t_s);
   // Quality: the spectrum, the streak end, and how the sign was decided.
   e.quality = streak_quality(axis, end, pattern_out, set) * sign_quality(sign.source);
-  const bool too_long = !end.has_speed && axis.anisotropy >= set.long_streak_anisotropy;
+  const bool too_long = !end.has_speed && !end.ambiguous && axis.anisotropy >= set.long_streak_anisotropy;
   if (too_long) {
     result.note.too_long = true;
     // Half the longest measurable streak: "too long" is also said of a

@@ -49,6 +49,10 @@ struct StreakLength {
   /// frame leaves only noise, with "peaks" as deep but not standing out).
   double significance = 0.0;
   double background = 0.0;  ///< that typical |A| over A(0): ~0.04 with a clean streak, >0.1 without
+  /// Other ends along the ray at least 85 % as deep as the deepest and at
+  /// least 4 px from this one: the surface alone cannot tell which is the
+  /// streak's (streak_length() only; 0 from the cepstrum).
+  int rivals = 0;
 };
 
 /// Displacement between the two images of a double exposure, from the side
@@ -131,7 +135,8 @@ class BlurAnalyzer {
 
   /// Searches min_px <= L <= max_px along `axis`. With expected_px > 0
   /// (a length predicted from a recent speed), of several streak ends at
-  /// least 85 % as deep as the deepest, the one nearest to it. With
+  /// least 85 % as deep as the deepest, the one nearest to it (the others
+  /// counted in `rivals`, with or without expected_px). With
   /// axis_tan > 0 (the tangent of how far the axis may be off), the end is
   /// looked for up to L * axis_tan px either side of the ray at each L.
   StreakLength streak_length(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
