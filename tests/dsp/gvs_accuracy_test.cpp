@@ -59,6 +59,7 @@ TEST(GvsAccuracy, CrawlWithFixedExposurePairsOfFrames) {
   EXPECT_GT(s.yaw_frames, 100);
   EXPECT_LE(s.yaw_rms(), 4.0);  // deg/s; yaw has no figure in the table
   EXPECT_LE(s.confident_bad, s.frames / 100);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, StandstillThenPullingAway) {
@@ -68,6 +69,7 @@ TEST(GvsAccuracy, StandstillThenPullingAway) {
   EXPECT_GE(s.still_ok, s.still_frames * 99 / 100);
   EXPECT_LT(s.still_speed_max, 0.01);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, AStreakLongerThanMeasurableDoesNotAliasIntoAShortOne) {
@@ -85,6 +87,7 @@ TEST(GvsAccuracy, AStreakLongerThanMeasurableDoesNotAliasIntoAShortOne) {
   ASSERT_GT(b.frames, 25);
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
@@ -100,6 +103,7 @@ TEST(GvsAccuracy, DoublePulseAt60KmhClosedLoop) {
   EXPECT_GE(b.speed_coverage(), 0.99);
   EXPECT_LE(b.speed_rms(), 0.0025);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, AdaptiveStrobeAt60KmhClosedLoop) {
@@ -146,6 +150,7 @@ TEST(GvsAccuracy, FixedExposureOnTheSkidpadKeepsTheDirectionToATenth) {
   EXPECT_LE(b.dir_max, 0.5);
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, OverExposedFramesKeepTheDirection) {
@@ -172,6 +177,7 @@ TEST(GvsAccuracy, OverExposedSpinHasNoFalseStreakEnd) {
   EXPECT_GE(b.speed_coverage(), 0.6);
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedAdaptiveStepsUpTakeNoRivalStreakEnd) {
@@ -215,6 +221,7 @@ TEST(GvsAccuracy, OverExposedAdaptiveSpinKeepsTheSpeedToOnePercent) {
     EXPECT_LE(b.speed_rms(), 0.01);
   }
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedFramesKeepTheDirection) {
@@ -230,6 +237,7 @@ TEST(GvsAccuracy, UnderExposedFramesKeepTheDirection) {
   expect_exposure_direction_figures(b);
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedAt2KmhPairsOfFramesHold) {
@@ -246,6 +254,7 @@ TEST(GvsAccuracy, UnderExposedAt2KmhPairsOfFramesHold) {
   expect_exposure_direction_figures(b);
   expect_slow_speed_figures(b);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedCrawlKeepsPairsThroughTurnsAndBraking) {
@@ -260,6 +269,7 @@ TEST(GvsAccuracy, UnderExposedCrawlKeepsPairsThroughTurnsAndBraking) {
   expect_exposure_direction_figures(b);
   expect_slow_speed_figures(b);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedAt10KmhTheLineGivesTheDirection) {
@@ -276,6 +286,7 @@ TEST(GvsAccuracy, UnderExposedAt10KmhTheLineGivesTheDirection) {
   EXPECT_GE(b.speed_coverage(), 0.9);
   EXPECT_LE(b.speed_rms(), 0.02);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedAdaptiveStrobeKeepsTheDirection) {
@@ -290,6 +301,7 @@ TEST(GvsAccuracy, UnderExposedAdaptiveStrobeKeepsTheDirection) {
   expect_exposure_direction_figures(b);
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedLongStreaksGiveNoShortSpeed) {
@@ -305,6 +317,7 @@ TEST(GvsAccuracy, UnderExposedLongStreaksGiveNoShortSpeed) {
   for (int i = 0; i < 3; ++i) EXPECT_LE(band(s, i).speed_max, 0.05) << "band " << i;
   EXPECT_GE(band(s, 1).speed_coverage(), 0.5);  // 5-15 km/h: shorter streaks still give one
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedDoublePulseAt60Kmh) {
@@ -324,6 +337,7 @@ TEST(GvsAccuracy, UnderExposedDoublePulseAt60Kmh) {
   EXPECT_LE(b.dir_rms(), 0.2);  // the under-exposed targets
   EXPECT_LE(b.dir_max, 1.0);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(GvsAccuracy, UnderExposedDoublePulseAt160KmhLengthensThePulses) {
@@ -342,6 +356,7 @@ TEST(GvsAccuracy, UnderExposedDoublePulseAt160KmhLengthensThePulses) {
   EXPECT_LE(b.speed_rms(), 0.01);
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 }  // namespace

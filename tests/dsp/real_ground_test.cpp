@@ -108,6 +108,7 @@ TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFra
   EXPECT_LE(b.speed_rms(), 0.01);
   for (const BandScore& band : s.bands) EXPECT_LE(band.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 /// `scenario`'s first `seconds` on `photo`, seed `seed`, in `mode`, scored
@@ -154,6 +155,7 @@ TEST(PhotographedGroundGrain, StreakShorterThanTheSearchGivesNoConfidentDirectio
   // streaks, give none: short-streak).
   EXPECT_GE(s.bands[2].dir_coverage(), 0.7);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST(PhotographedGroundGrain, AStreakOutgrowingTheWindowIsNotReadAtATroughOfTheGrain) {
@@ -183,6 +185,7 @@ TEST_P(PhotographedGround, AdaptiveStrobeAt130KmhGivesTheSpeedOfFaintStreaks) {
   EXPECT_LE(b.speed_rms(), 0.01);  // ph_asphalt_04 0.8 %, the others 0.3-0.5 %
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 TEST_P(PhotographedGround, DoublePulseAt130KmhHoldsTheSpeedToAQuarterPercent) {
@@ -199,6 +202,7 @@ TEST_P(PhotographedGround, DoublePulseAt130KmhHoldsTheSpeedToAQuarterPercent) {
   EXPECT_LE(b.speed_max, 0.01);
   EXPECT_LE(b.dir_rms(), 0.1);
   EXPECT_EQ(s.confident_bad, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
 }
 
 /// A seamless ground photograph of `sigma_grey` RMS white noise around grey
@@ -235,6 +239,7 @@ TEST(FaintGround, NoTextureGivesNoDirectionAtSpeed) {
     EXPECT_EQ(s.bands[3].with_direction, 0) << "sigma " << sigma_grey;
     EXPECT_EQ(s.bands[3].with_speed, 0) << "sigma " << sigma_grey;
     EXPECT_EQ(s.confident_bad, 0);
+    EXPECT_EQ(s.valid_speed_off, 0);
   }
 }
 
