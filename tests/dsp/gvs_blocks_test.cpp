@@ -136,7 +136,7 @@ INSTANTIATE_TEST_SUITE_P(Angles, StreakAnalysis,
 // Two streak ends as deep (here two equally bright exposures of one patch,
 // 60 and 75 px long): the surface alone cannot tell which is the streak's.
 // They are reported as rivals; the expected length chooses which one is
-// returned, and the estimator asks the cepstrum (gvs_single.cpp).
+// returned, and the estimator asks the cepstrum (streak_end.cpp).
 TEST(StreakAnalysis, TwoEndsAsDeepAreRivals) {
   const double a = deg_to_rad(17.0);
   const test::Sensor sensor;
@@ -163,6 +163,38 @@ TEST(StreakAnalysis, TwoEndsAsDeepAreRivals) {
     EXPECT_NEAR(len.length_px, expected_px, 1.0);
     EXPECT_GE(len.rivals, 1);
   }
+}
+
+// The anisotropy a streak of L px would give, predicted from the ground's
+// own spectrum on the line k.u = 0 (blur_consistency.cpp), is what the
+// frame shows, on fine and on coarse grain alike; the two grounds differ
+// (the finer, the more elongated at the same L), and each streak passes the
+// cold-start rule (no more elongated than a streak twice as long would be).
+TEST(StreakAnalysis, PredictedAnisotropyFollowsTheGround) {
+  const double a = deg_to_rad(17.0);
+  const test::Sensor sensor;
+  WindowedSpectrum spectrum(kFrame);
+  BlurAnalyzer blur(kFrame);
+  cv::Mat f;
+  const cv::Mat coarse = test::make_texture(1024, 11, 3.0);
+  double predicted_40[2] = {0.0, 0.0};
+  int i = 0;
+  for (const cv::Mat* ground : {&texture(), &coarse}) {
+    for (const double length_px : {20.0, 40.0, 80.0}) {
+      const cv::Mat img = test::render_frame(*ground, kFrame, 0, 0, 0, std::cos(a), std::sin(a), 0,
+                                             test::continuous(length_px), sensor, 7);
+      spectrum.compute(img, f);
+      const StreakAxis axis = blur.streak_axis(f);
+      const double predicted = blur.streak_anisotropy(f, axis, length_px);
+      std::printf("grain %d, %3.0f px: anisotropy %.4f, predicted %.4f (2L: %.4f)\n", i, length_px, axis.anisotropy,
+                  predicted, blur.streak_anisotropy(f, axis, 2.0 * length_px));
+      EXPECT_NEAR(axis.anisotropy, predicted, 0.03);
+      EXPECT_LE(axis.anisotropy, blur.streak_anisotropy(f, axis, 2.0 * length_px));
+      if (length_px == 40.0) predicted_40[i] = predicted;
+    }
+    ++i;
+  }
+  EXPECT_GT(predicted_40[0], predicted_40[1] + 0.01);
 }
 
 // Over many patches of ground, the streak end is found where it is (no

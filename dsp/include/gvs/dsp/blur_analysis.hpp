@@ -133,6 +133,11 @@ class BlurAnalyzer {
                                        double sigma, int iterations, bool high_k_weight = false,
                                        const RingGain* gain = nullptr) const;
 
+  /// The anisotropy streak_axis() would measure on this ground for a streak
+  /// of `length_px` along `axis`: the ground's power per ring of |k| read on
+  /// the line k.u = 0, blurred by sinc^2(k.u L / 2) (blur_consistency.cpp).
+  [[nodiscard]] double streak_anisotropy(const cv::Mat& spectrum, const StreakAxis& axis, double length_px) const;
+
   /// Searches min_px <= L <= max_px along `axis`. With expected_px > 0
   /// (a length predicted from a recent speed), of several streak ends at
   /// least 85 % as deep as the deepest, the one nearest to it (the others

@@ -6,7 +6,7 @@
 //
 //   check_still           previous and this frame identical up to noise, and sharp   gvs_still.cpp
 //   analyse_pair          previous and this frame overlap: velocity and yaw rate     gvs_pair.cpp
-//   analyse_streak        one blurred frame: streak axis and length                  gvs_single.cpp
+//   analyse_streak        one blurred frame: streak axis and length                  gvs_single.cpp, streak_end.cpp
 //   analyse_double_pulse  one frame lit twice: displacement between the two images  gvs_double.cpp
 #pragma once
 

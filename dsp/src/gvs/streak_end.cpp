@@ -1,0 +1,172 @@
+// The streak end of one blurred frame: where it is looked for, and whether
+// it is clear enough for the axis and the speed (streak_end.hpp).
+#include "streak_end.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "gvs/dsp/vocabulary.hpp"
+
+namespace gvs::dsp {
+
+StreakSearch streak_search(const MotionMemory& m, std::int64_t index, std::int64_t t_mid_ns, double max_px,
+                           double t_s, double m_per_px, const GvsEstimatorSettings& set) {
+  StreakSearch s;
+  s.lo_px = set.min_streak_search_px;
+  s.hi_px = max_px;
+  s.min_significance = set.min_streak_significance;
+  const std::int64_t age = index - m.speed_index;
+  s.min_length_px = set.min_streak_px;
+  s.max_background = set.max_streak_background_tracked;
+  const double age_s = static_cast<double>(t_mid_ns - m.speed_t_ns) * 1e-9;
+  // Recent by time, not by frame count: gvsd skips frames when processing
+  // falls behind, and a skipped frame does not make the speed less known.
+  if (m.has_speed && age >= 1 && age_s <= set.speed_memory_s) {
+    const double slack_mps = set.max_accel_mps2 * age_s;
+    const double v_lo = std::max(0.0, (1.0 - set.speed_window_fraction) * m.speed_mps - slack_mps);
+    const double v_hi = (1.0 + set.speed_window_fraction) * m.speed_mps + slack_mps;
+    s.lo_px = std::max(s.lo_px, v_lo * t_s / m_per_px - 2.0);
+    s.clipped = v_hi * t_s / m_per_px + 2.0 > s.hi_px;
+    s.hi_px = std::min(s.hi_px, v_hi * t_s / m_per_px + 2.0);
+    s.expected_px = m.speed_mps * t_s / m_per_px;
+  } else {
+    s.min_significance = set.min_streak_significance_cold;
+    s.min_length_px = set.min_streak_px_cold;
+    s.max_background = set.max_streak_background;
+    // ... and not shorter than a recent too-long streak allows (less what
+    // max_accel_mps2 can take off since): seen in `sine` seed 4, a texture
+    // "streak end" at 44 px (1.5 m/s) between 500 px streaks (16.7 m/s).
+    const double floor_age_s = static_cast<double>(t_mid_ns - m.speed_floor_t_ns) * 1e-9;
+    if (m.has_speed_floor && floor_age_s >= 0.0 && floor_age_s <= set.speed_memory_s) {
+      const double v_floor = m.speed_floor_mps - set.max_accel_mps2 * floor_age_s;
+      s.lo_px = std::max(s.lo_px, v_floor * t_s / m_per_px - 2.0);
+    }
+  }
+  return s;
+}
+
+namespace {
+
+/// The surface is circular: a streak end at lag L' also shows at lag
+/// (frame - L') along an axis parallel to the rows or columns. A streak
+/// longer than we measure (here 0.58-0.9 of the frame) thus fakes a
+/// shorter one, and the flat Tukey window keeps that alias strong
+/// (overlap 0.33 at 0.6 of the frame; Hann 0.07). accel seed 9: 226 px
+/// streaks read as 159 px, three frames at quality 0.7, 30 % slow.
+/// Without a recent speed to vouch for it, the length must also be found
+/// through a Hann window. Only where an alias can land on the axis (within
+/// 3 px of it across the frame) and be strong (from streaks up to 0.85 of
+/// the frame: here L > 0.15 of it); one more forward DFT on such frames.
+/// False: the length may be such an alias.
+bool not_an_alias(const cv::Mat& gray, const StreakAxis& axis, const StreakLength& len,
+                  const StreakSearch& search, const SensorPattern& pattern, bool pattern_out,
+                  double axis_tan, SpectrumWorkspace& ws) {
+  const bool along_rows = std::abs(axis.u_col) * gray.rows < 3.0;
+  const bool along_cols = std::abs(axis.u_row) * gray.cols < 3.0;
+  const double alias_min_px = 0.15 * (along_rows ? gray.rows : gray.cols);
+  if (!(along_rows || along_cols) || len.length_px <= alias_min_px) return true;
+  take_spectrum(ws.hann, gray, ws.hann_spectrum, pattern, pattern_out);
+  const StreakLength check = ws.blur.streak_length(ws.hann_spectrum, axis, search.lo_px, search.hi_px, 0.0, axis_tan);
+  // (Its sub-pixel fit divides by the Tukey window's overlap: a few
+  // tenths of a pixel off at most, well inside the 3 % agreement.)
+  return check.found && std::abs(check.length_px - len.length_px) <= std::max(2.0, 0.03 * len.length_px);
+}
+
+}  // namespace
+
+StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis_refined,
+                          const StreakSearch& search, const SensorPattern& pattern, bool pattern_out,
+                          bool well_lit, const GvsEstimatorSettings& set, SpectrumWorkspace& ws) {
+  StreakEnd end;
+  const StreakLength& len = end.length;
+  // An axis not refined may be a few degrees off: the end is looked for
+  // beside the ray too, and its lag then gives the axis (motion_axis).
+  const double axis_tan = axis_refined ? 0.0 : std::tan(set.unrefined_axis_error_deg * kPi / 180.0);
+  if (search.hi_px > search.lo_px + 2.0) {
+    end.length =
+        ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, search.expected_px, axis_tan);
+  }
+  // The power cepstrum: a second reading of the same streak that weighs
+  // every zero of the blur alike, looked at only where needed.
+  int cepstrum_agrees = -1;  // not yet looked at
+  double cepstrum_px = 0.0;
+  const auto vouched = [&] {
+    // The cepstrum sees the ground's own troughs too (a fixed lag of its
+    // grain): it vouches only where the window holds every length the
+    // recent speed allows, not for a trough found below a streak that may
+    // have outgrown the window (torcs_wheel1 `accel` seed 3, frame 133:
+    // 137 px from both readings for 170 px, beyond the 161 px measurable).
+    if (search.clipped) return false;
+    if (cepstrum_agrees < 0) {
+      const StreakLength c = ws.blur.streak_length_cepstral(ws.spectrum, axis, search.lo_px, search.hi_px);
+      cepstrum_px = c.found ? c.length_px : 0.0;
+      cepstrum_agrees = c.found && std::abs(c.length_px - len.length_px) <=
+                                       set.cepstrum_max_disagreement * len.length_px;
+    }
+    return cepstrum_agrees == 1;
+  };
+  // Rival ends as deep as the chosen one: the length the recent speed
+  // predicts cannot choose, it lags an accelerating car (`const adaptive
+  // under` seed 1 frame 309: a trough at 70 px chosen for 70 px predicted,
+  // the streak's at 75 px, 6 % slow at quality 0.39). The cepstrum
+  // decides: the end nearest to its length, and no speed unless they agree.
+  end.ambiguous = len.found && len.rivals > 0 && !vouched();
+  if (end.ambiguous && cepstrum_px > 0.0) {
+    const StreakLength nearest =
+        ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, cepstrum_px, axis_tan);
+    if (nearest.found &&
+        std::abs(nearest.length_px - cepstrum_px) <= set.cepstrum_max_disagreement * nearest.length_px) {
+      end.length = nearest;
+      cepstrum_agrees = 1;
+      end.ambiguous = false;
+    }
+  }
+  const bool cold = search.min_length_px >= set.min_streak_px_cold;
+  const bool accepted = len.found && len.depth >= set.min_streak_depth &&
+                        len.significance >= search.min_significance && len.background <= search.max_background &&
+                        len.length_px > search.lo_px + 0.5 && len.length_px < search.hi_px - 0.5;
+  // Without a recent speed, the spectrum must also be no more elongated than
+  // a streak twice as long would make on this ground (blur_consistency.cpp):
+  // a short "streak end" in a spectrum of endless streaks is texture. The
+  // ground's own spectrum sets the scale: on fine grain (torcs_etrack2) a
+  // true 28-56 px streak is as elongated (0.95-0.97) as a 150 px one on the
+  // simulator's asphalt.
+  const bool consistent =
+      !cold || (accepted && axis.anisotropy <= ws.blur.streak_anisotropy(ws.spectrum, axis, 2.0 * len.length_px));
+  // A clear streak end: its lag gives the axis from axis_from_streak_end_px,
+  // its length the speed from min_length.
+  // A dark frame gives a speed only from a streak end up to
+  // dark_max_streak_px: in 10-seed `const`/`accel` under-exposed runs, ends
+  // of 107-162 px were found 5-25 % short (6 frames; measurements: commit
+  // 944efc3).
+  // A well-lit frame with a faint texture is blurred, not dark (a streak of
+  // L px keeps about 1/L of the texture's power): its streak end counts down
+  // to min_speed_texture_snr_lit when the cepstrum puts it at the same
+  // length (cepstrum_max_disagreement); so does a well-lit frame's end
+  // beyond dark_max_streak_px (docs/estimator.md, "Faint streaks on
+  // well-lit ground").
+  const bool faint = axis.texture_snr < set.min_speed_texture_snr;
+  const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit;
+  end.shorter_than_search = len.found && len.depth >= set.min_streak_depth &&
+                            len.significance >= search.min_significance && len.length_px <= search.lo_px + 0.5;
+  end.clear = consistent && accepted && (!faint || (lit_faint && vouched()));
+  const bool beyond_dark_max = pattern_out && len.length_px > set.dark_max_streak_px;
+  end.has_speed = end.clear && !end.ambiguous && len.length_px >= search.min_length_px &&
+                  !(beyond_dark_max && !(well_lit && vouched()));
+  // Two readings of one end, each off by its own texture: the speed takes
+  // their mean (the lag keeps its direction).
+  if (end.has_speed && cepstrum_agrees == 1) {
+    const double scale = 0.5 * (1.0 + cepstrum_px / len.length_px);
+    end.length.length_px *= scale;
+    end.length.d_row_px *= scale;
+    end.length.d_col_px *= scale;
+  }
+  if (end.has_speed && cold) {
+    end.has_speed = not_an_alias(gray, axis, len, search, pattern, pattern_out, axis_tan, ws);
+    // An alias's lag is not on the axis either: (frame - L', -d_across).
+    end.clear = end.has_speed;
+  }
+  return end;
+}
+
+}  // namespace gvs::dsp
