@@ -105,26 +105,31 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
     }
     return cepstrum_agrees == 1;
   };
-  // Rival ends as deep as the chosen one: the length the recent speed
+  const bool cold = search.min_length_px >= set.min_streak_px_cold;
+  const auto passes_gates = [&](const StreakLength& l) {
+    return l.found && l.depth >= set.min_streak_depth && l.significance >= search.min_significance &&
+           l.background <= search.max_background && l.length_px > search.lo_px + 0.5 &&
+           l.length_px < search.hi_px - 0.5;
+  };
+  const bool accepted = passes_gates(len);
+  // Rival ends as deep as an accepted one: the length the recent speed
   // predicts cannot choose, it lags an accelerating car (`const adaptive
   // under` seed 1 frame 309: a trough at 70 px chosen for 70 px predicted,
   // the streak's at 75 px, 6 % slow at quality 0.39). The cepstrum
   // decides: the end nearest to its length, and no speed unless they agree.
-  end.ambiguous = len.found && len.rivals > 0 && !vouched();
-  if (end.ambiguous && cepstrum_px > 0.0) {
-    const StreakLength nearest =
-        ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, cepstrum_px, axis_tan);
-    if (nearest.found &&
-        std::abs(nearest.length_px - cepstrum_px) <= set.cepstrum_max_disagreement * nearest.length_px) {
-      end.length = nearest;
-      cepstrum_agrees = 1;
-      end.ambiguous = false;
+  if (accepted && len.rivals > 0 && !vouched()) {
+    end.ambiguous = true;
+    if (cepstrum_px > 0.0) {
+      const StreakLength nearest =
+          ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, cepstrum_px, axis_tan);
+      if (passes_gates(nearest) &&
+          std::abs(nearest.length_px - cepstrum_px) <= set.cepstrum_max_disagreement * nearest.length_px) {
+        end.length = nearest;
+        cepstrum_agrees = 1;
+        end.ambiguous = false;
+      }
     }
   }
-  const bool cold = search.min_length_px >= set.min_streak_px_cold;
-  const bool accepted = len.found && len.depth >= set.min_streak_depth &&
-                        len.significance >= search.min_significance && len.background <= search.max_background &&
-                        len.length_px > search.lo_px + 0.5 && len.length_px < search.hi_px - 0.5;
   // Without a recent speed, the spectrum must also be no more elongated than
   // a streak twice as long would make on this ground (blur_consistency.cpp):
   // a short "streak end" in a spectrum of endless streaks is texture. The
