@@ -184,8 +184,8 @@ TEST(GvsAccuracy, UnderExposedAdaptiveStepsUpTakeNoRivalStreakEnd) {
   // Stepping up 10 -> 20 -> 40 km/h in the dark with a single strobe: the
   // streak length the last speed predicts lags the car, and a trough of the
   // dark texture 4-5 px short of the streak's end, as deep as it, lies
-  // nearer to that prediction (seed 1, frame 309: 6 % slow at quality 0.39,
-  // valid on the bus). The cepstrum chooses between such ends
+  // nearer to that prediction (seed 1, frame 309: taken, it reads 6 % slow
+  // at quality 0.39, valid on the bus). The cepstrum chooses between such ends
   // (docs/estimator.md, "Measures against false answers").
   drivers::SimulatorConfig c = run("const", 5.3, drivers::LightLevel::under);
   c.seed = 1;

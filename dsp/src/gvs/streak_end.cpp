@@ -114,8 +114,8 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   const bool accepted = passes_gates(len);
   // Rival ends as deep as an accepted one: the length the recent speed
   // predicts cannot choose, it lags an accelerating car (`const adaptive
-  // under` seed 1 frame 309: a trough at 70 px chosen for 70 px predicted,
-  // the streak's at 75 px, 6 % slow at quality 0.39). The cepstrum
+  // under` seed 1 frame 309: 70 px predicted, the end at 75 px and a
+  // trough at 70 px that would read 6 % slow at quality 0.39). The cepstrum
   // decides: the end nearest to its length, and no speed unless they agree.
   if (accepted && len.rivals > 0 && !vouched()) {
     end.ambiguous = true;
