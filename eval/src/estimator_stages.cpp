@@ -158,6 +158,16 @@ std::vector<EstimatorStage> make_stages() {
                  };
                },
                frames});
+  s.push_back({"streak_anisotropy", "strobed", "the anisotropy a streak would give this ground (cold ends)",
+               [](const StageInputs& in) -> Step {
+                 auto blur = std::make_shared<dsp::BlurAnalyzer>(in.size);
+                 auto axes = std::make_shared<std::vector<dsp::StreakAxis>>();
+                 for (const cv::Mat& sp : in.spectrum) axes->push_back(blur->streak_axis(sp));
+                 return [&in, blur, axes](std::size_t i) {
+                   g_sink = blur->streak_anisotropy(in.spectrum[i], (*axes)[i], 60.0);
+                 };
+               },
+               frames});
   s.push_back({"double_image", "double_pulse", "double image",
                [](const StageInputs& in) -> Step {
                  auto blur = std::make_shared<dsp::BlurAnalyzer>(in.size);

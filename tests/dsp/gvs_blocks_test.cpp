@@ -11,6 +11,7 @@
 
 #include "gvs/dsp/blur_analysis.hpp"
 #include "gvs/dsp/frame_check.hpp"
+#include "gvs/dsp/gvs_settings.hpp"
 #include "gvs/dsp/vocabulary.hpp"
 #include "gvs/dsp/phase_correlation.hpp"
 #include "gvs/dsp/spectrum.hpp"
@@ -170,6 +171,32 @@ TEST(StreakAnalysis, TwoEndsAsDeepAreRivals) {
 // frame shows, on fine and on coarse grain alike; the two grounds differ
 // (the finer, the more elongated at the same L), and each streak passes the
 // cold-start rule (no more elongated than a streak twice as long would be).
+// The cepstrum's end stands out of its ray (StreakLength::significance, as
+// the streak end's) where a streak ends within the range it looks at; under
+// a streak far longer, its deepest point is only the least positive one.
+TEST(StreakAnalysis, TheCepstrumsEndStandsOutWhereTheStreakEndsInItsRange) {
+  const double a = deg_to_rad(17.0);
+  const test::Sensor sensor;
+  WindowedSpectrum spectrum(kFrame);
+  BlurAnalyzer blur(kFrame);
+  const GvsEstimatorSettings set;
+  cv::Mat f;
+  double significance[2] = {0.0, 0.0};
+  const double lengths_px[2] = {90.0, 600.0};
+  for (int i = 0; i < 2; ++i) {
+    const cv::Mat frame = test::render_frame(texture(), kFrame, 0, 0, 0, std::cos(a), std::sin(a), 0,
+                                             test::continuous(lengths_px[i]), sensor, 5);
+    spectrum.compute(frame, f);
+    const StreakAxis axis = blur.streak_axis(f);
+    const StreakLength cep = blur.streak_length_cepstral(f, axis, 20.0, 160.0);
+    significance[i] = cep.found ? cep.significance : 0.0;
+    std::printf("   %.0f px streak: cepstrum %.1f px, significance %.2f\n", lengths_px[i], cep.length_px,
+                significance[i]);
+  }
+  EXPECT_GE(significance[0], set.min_streak_significance);
+  EXPECT_LT(significance[1], set.min_streak_significance);
+}
+
 TEST(StreakAnalysis, PredictedAnisotropyFollowsTheGround) {
   const double a = deg_to_rad(17.0);
   const test::Sensor sensor;

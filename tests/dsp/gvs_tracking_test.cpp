@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "gvs/dsp/gvs_tracking.hpp"
+#include "streak_end.hpp"
 
 namespace gvs::dsp {
 namespace {
@@ -95,6 +96,106 @@ TEST(GvsTracking, ASpeedIsRecentForSpeedMemoryOnly) {
   EXPECT_TRUE(speed_is_recent(m, m.speed_t_ns + memory_ns, set));
   EXPECT_FALSE(speed_is_recent(m, m.speed_t_ns + memory_ns + kMs, set));
   EXPECT_FALSE(speed_is_recent(m, m.speed_t_ns, set));  // the same frame is not "before"
+}
+
+TEST(GvsTracking, TheStreakSearchLooksAroundARecentSpeedAndTheCepstrumBeyondTheWindow) {
+  // 3 ms at 0.1 mm/px: 1 m/s draws a 30 px streak. A 384 px extent: the
+  // window measures up to 161 px (max_streak_fraction), the cepstrum looks
+  // up to 192 px (cepstrum_max_streak_fraction).
+  const GvsEstimatorSettings set;
+  constexpr double kExtentPx = 384.0;
+  constexpr double kLightS = 3e-3;
+  constexpr double kMetresPerPx = 1e-4;
+  constexpr std::int64_t kFrameNs = 16667 * 1000;
+  MotionMemory m;
+  m.speed_index = 100;
+  m.speed_t_ns = 100 * kFrameNs;
+
+  // No speed: everywhere, with the cold gates; the cepstrum over every
+  // length a streak can show without an alias nearer.
+  const StreakSearch cold = streak_search(m, 101, 101 * kFrameNs, kExtentPx, kLightS, kMetresPerPx, set);
+  EXPECT_DOUBLE_EQ(cold.hi_px, set.max_streak_fraction * kExtentPx);
+  EXPECT_DOUBLE_EQ(cold.cepstrum_hi_px, set.cepstrum_max_streak_fraction * kExtentPx);
+  EXPECT_TRUE(cold.cepstrum_sees_all);
+  EXPECT_DOUBLE_EQ(cold.min_significance, set.min_streak_significance_cold);
+
+  // 3 m/s a frame ago: 90 px, the window +-15 % plus 20 m/s^2 for 16.7 ms
+  // (and 2 px): 64.5-115.5 px, all inside the window; the cepstrum looks
+  // at the same lengths.
+  m.has_speed = true;
+  m.speed_mps = 3.0;
+  const StreakSearch near = streak_search(m, 101, 101 * kFrameNs, kExtentPx, kLightS, kMetresPerPx, set);
+  EXPECT_NEAR(near.lo_px, 64.5, 0.1);
+  EXPECT_NEAR(near.hi_px, 115.5, 0.1);
+  EXPECT_DOUBLE_EQ(near.cepstrum_hi_px, near.hi_px);
+  EXPECT_TRUE(near.cepstrum_sees_all);
+  EXPECT_DOUBLE_EQ(near.min_significance, set.min_streak_significance);
+
+  // 4.5 m/s: up to 167.3 px, beyond the window but not the cepstrum's reach.
+  m.speed_mps = 4.5;
+  const StreakSearch wide = streak_search(m, 101, 101 * kFrameNs, kExtentPx, kLightS, kMetresPerPx, set);
+  EXPECT_DOUBLE_EQ(wide.hi_px, set.max_streak_fraction * kExtentPx);
+  EXPECT_NEAR(wide.cepstrum_hi_px, 167.3, 0.1);
+  EXPECT_TRUE(wide.cepstrum_sees_all);
+
+  // 5.5 m/s: up to 201.7 px, beyond both: the cepstrum cannot vouch.
+  m.speed_mps = 5.5;
+  const StreakSearch beyond = streak_search(m, 101, 101 * kFrameNs, kExtentPx, kLightS, kMetresPerPx, set);
+  EXPECT_DOUBLE_EQ(beyond.cepstrum_hi_px, set.cepstrum_max_streak_fraction * kExtentPx);
+  EXPECT_FALSE(beyond.cepstrum_sees_all);
+
+  // Older than speed_memory_s: cold gates, everywhere. 5.5 m/s five frames
+  // ago allows up to 239.8 px now, beyond the cepstrum's reach: no
+  // re-acquisition.
+  const StreakSearch stale = streak_search(m, 105, 105 * kFrameNs, kExtentPx, kLightS, kMetresPerPx, set);
+  EXPECT_DOUBLE_EQ(stale.min_significance, set.min_streak_significance_cold);
+  EXPECT_DOUBLE_EQ(stale.hi_px, set.max_streak_fraction * kExtentPx);
+  EXPECT_TRUE(stale.cepstrum_sees_all);
+  EXPECT_FALSE(stale.reacquire);
+  // 3 m/s five frames ago: 24.5-155.5 px, within reach: re-acquisition.
+  m.speed_mps = 3.0;
+  const StreakSearch again = streak_search(m, 105, 105 * kFrameNs, kExtentPx, kLightS, kMetresPerPx, set);
+  EXPECT_DOUBLE_EQ(again.min_significance, set.min_streak_significance_cold);
+  EXPECT_TRUE(again.reacquire);
+  EXPECT_NEAR(again.reacquire_lo_px, 24.5, 0.1);
+  EXPECT_NEAR(again.reacquire_hi_px, 155.5, 0.1);
+  // ... but not from a speed older than reacquire_memory_s (a 0.3 ms
+  // strobe, whose streaks stay within reach that long).
+  constexpr double kStrobeS = 0.3e-3;
+  const auto last_index = static_cast<std::int64_t>(std::floor(set.reacquire_memory_s * 60.0)) + 99;
+  EXPECT_TRUE(streak_search(m, last_index, last_index * kFrameNs, kExtentPx, kStrobeS, kMetresPerPx, set).reacquire);
+  EXPECT_FALSE(
+      streak_search(m, last_index + 2, (last_index + 2) * kFrameNs, kExtentPx, kStrobeS, kMetresPerPx, set).reacquire);
+}
+
+TEST(GvsTracking, AVelocityFollowsThePreviousFramesWithinWhatTheCarCanChange) {
+  // 1.5 m/s backwards (5.4 km/h) at frame 255; 1/60 s later the car can be
+  // within 0.15 x 1.5 + 20 x 1/60 = 0.56 m/s of it.
+  const GvsEstimatorSettings set;
+  constexpr double kDtS = 1.0 / 60.0;
+  MotionMemory m = with_last_speed(1.5, MotionMemory::Mode::single);
+  m.last.index = 255;
+  m.last.has_direction = true;
+  m.last.vx_mps = -1.5;
+  VelocityEstimate e;
+  e.has_speed = true;
+  e.has_direction = true;
+  const auto at = [&](double vx_mps, double vy_mps) {
+    e.vx_mps = vx_mps;
+    e.vy_mps = vy_mps;
+    e.speed_mps = std::hypot(vx_mps, vy_mps);
+    return follows_last_velocity(m, e, 256, kDtS, set);
+  };
+  EXPECT_TRUE(at(-1.5, 0.0));
+  EXPECT_TRUE(at(-1.0, 0.0));
+  EXPECT_FALSE(at(-0.9, 0.0));
+  EXPECT_TRUE(at(-1.5, 0.5));
+  // The circular alias of a 250 px shift along 384 px: 134 px the other way.
+  EXPECT_FALSE(at(0.8, 0.0));
+  // Nothing to compare with: an older last estimate, or none with a direction.
+  EXPECT_TRUE(follows_last_velocity(m, e, 257, kDtS, set));
+  m.last.has_direction = false;
+  EXPECT_TRUE(at(0.8, 0.0));
 }
 
 TEST(GvsTracking, PairAndSingleFrameNotes) {

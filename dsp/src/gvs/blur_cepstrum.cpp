@@ -77,6 +77,16 @@ StreakLength BlurAnalyzer::streak_length_cepstral(const cv::Mat& spectrum, const
     }
   }
   if (best >= 0.0) return out;
+  // How far the end stands out of the ray (as in streak_length()): over the
+  // typical |c| along it, away from the end. Under a streak longer than
+  // the range the deepest point is only the least positive one, and
+  // barely stands out.
+  std::size_t n = 0;
+  for (double t = std::max(12.0, min_px); t <= max_px && n < ray_.size(); t += 0.5) {
+    if (std::abs(t - best_t) < 6.0) continue;
+    ray_[n++] = std::abs(detail::sample_lag(surface_, t * axis.u_row, t * axis.u_col));
+  }
+  const double spread = detail::median_spread(ray_, n);
   // Integer minimum in the 5x5 around it, then a quadratic fit (as
   // streak_length(); no window overlap to divide out: the window fills the
   // zeros of |H|^2 alike at every lag).
@@ -99,6 +109,7 @@ StreakLength BlurAnalyzer::streak_length_cepstral(const cv::Mat& spectrum, const
   out.length_px = std::hypot(p.d_row, p.d_col);
   const double c_zero = static_cast<double>(surface_.at<float>(0, 0));
   out.depth = c_zero > 0.0 ? -detail::at_lag(surface_, br, bc) / c_zero : 0.0;
+  out.significance = spread > 0.0 ? -detail::at_lag(surface_, br, bc) / spread : 0.0;
   return out;
 }
 

@@ -135,12 +135,7 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
     if (std::abs(t - best_t) < 6.0) continue;
     ray_[n++] = std::abs(detail::sample_lag(surface_, t * axis.u_row, t * axis.u_col));
   }
-  double rms = 0.0;
-  if (n > 0) {
-    const auto mid = ray_.begin() + static_cast<std::ptrdiff_t>(n / 2);
-    std::nth_element(ray_.begin(), mid, ray_.begin() + static_cast<std::ptrdiff_t>(n));
-    rms = 1.4826 * *mid;  // median absolute value -> standard deviation (Gaussian)
-  }
+  const double rms = detail::median_spread(ray_, n);
   // Refine in 2-D: integer minimum in the 5x5 around the ray point, then a
   // quadratic fit, both on A divided by the window overlap (which would pull
   // the end towards lag 0: spectrum.hpp, WindowOverlap).

@@ -123,7 +123,12 @@ VelocityEstimate GvsEstimator::estimate_one_light(const FrameView& frame, std::i
         motion.last_valid && motion.last.has_speed && motion.last.index == frame.index - 1;
     const VelocityEstimate p = pair();
     const double streak_px = p.speed_mps * lit_us * 1e-6 / (cam_.mm_per_px * 1e-3);
-    const bool explains_streak = !elongated || (p.has_speed && streak_px >= set_.pair_min_streak_px_elongated);
+    // A match must explain the streak, and follow the previous frame's
+    // velocity: 250 px apart along a 384 px frame extent the circular
+    // correlation peaks at the alias, 134 px the other way (`spin`
+    // adaptive over-exposed at 5.4 km/h), and pair mode would then keep it.
+    const bool explains_streak = (!elongated || (p.has_speed && streak_px >= set_.pair_min_streak_px_elongated)) &&
+                                 follows_last_velocity(motion, p, frame.index, dt_s, set_);
     if (p.quality >= 0.5 && explains_streak) {
       if (!elongated || slope_known) e = p;
       motion.mode = MotionMemory::Mode::pair;

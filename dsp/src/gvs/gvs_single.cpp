@@ -202,7 +202,7 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   const double max_px = set.max_streak_fraction * extent;
   const double t_s = frame.exposure.lit_time_us() * 1e-6;
   const double m_per_px = cam.mm_per_px * 1e-3;
-  const StreakSearch search = streak_search(track.motion, frame.index, t_mid_ns, max_px, t_s, m_per_px, set);
+  const StreakSearch search = streak_search(track.motion, frame.index, t_mid_ns, extent, t_s, m_per_px, set);
   const StreakEnd end =
       find_streak_end(frame.gray, axis, refine, search, track.pattern, pattern_out, e.well_lit(), set, ws);
 

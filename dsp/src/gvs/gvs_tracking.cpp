@@ -62,6 +62,15 @@ bool speed_is_recent(const MotionMemory& m, std::int64_t t_mid_ns, const GvsEsti
          static_cast<double>(t_mid_ns - m.speed_t_ns) * 1e-9 <= set.speed_memory_s;
 }
 
+bool follows_last_velocity(const MotionMemory& m, const VelocityEstimate& e, std::int64_t index, double dt_s,
+                           const GvsEstimatorSettings& set) {
+  const VelocityEstimate& last = m.last;
+  if (!(m.last_valid && last.has_speed && last.has_direction && last.index == index - 1)) return true;
+  if (!(e.has_speed && e.has_direction)) return true;
+  const double change_mps = std::hypot(e.vx_mps - last.vx_mps, e.vy_mps - last.vy_mps);
+  return change_mps <= set.speed_window_fraction * last.speed_mps + set.max_accel_mps2 * dt_s;
+}
+
 void note_pair(MotionMemory& m, bool matched, Vec2 v_pair_mps) {
   m.has_pair_v = matched;
   if (matched) m.pair_v_mps = v_pair_mps;

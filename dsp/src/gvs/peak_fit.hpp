@@ -1,7 +1,9 @@
 // Sub-pixel peak location on a periodic (DFT) correlation surface.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include <opencv2/core/mat.hpp>
 
@@ -82,6 +84,17 @@ SubPixel fit_extremum_3x3_of(ValueAt&& value, int r, int c) {
 /// The same on the surface `s` itself.
 inline SubPixel fit_extremum_3x3(const cv::Mat& s, int r, int c) {
   return fit_extremum_3x3_of([&s](int dr, int dc) { return at_lag(s, dr, dc); }, r, c);
+}
+
+/// The spread of the first `n` values of `abs_values` (absolute values,
+/// reordered): 1.4826 median, the standard deviation were they Gaussian,
+/// robust to the few that stand out. 0 for n = 0.
+template <class Array>
+double median_spread(Array& abs_values, std::size_t n) {
+  if (n == 0) return 0.0;
+  const auto mid = abs_values.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(abs_values.begin(), mid, abs_values.begin() + static_cast<std::ptrdiff_t>(n));
+  return 1.4826 * *mid;
 }
 
 }  // namespace gvs::dsp::detail

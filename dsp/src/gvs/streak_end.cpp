@@ -9,38 +9,52 @@
 
 namespace gvs::dsp {
 
-StreakSearch streak_search(const MotionMemory& m, std::int64_t index, std::int64_t t_mid_ns, double max_px,
+StreakSearch streak_search(const MotionMemory& m, std::int64_t index, std::int64_t t_mid_ns, double extent_px,
                            double t_s, double m_per_px, const GvsEstimatorSettings& set) {
   StreakSearch s;
+  const double max_px = set.max_streak_fraction * extent_px;
+  const double cepstrum_max_px = set.cepstrum_max_streak_fraction * extent_px;
   s.lo_px = set.min_streak_search_px;
   s.hi_px = max_px;
-  s.min_significance = set.min_streak_significance;
+  s.cepstrum_hi_px = cepstrum_max_px;
   const std::int64_t age = index - m.speed_index;
-  s.min_length_px = set.min_streak_px;
-  s.max_background = set.max_streak_background_tracked;
-  const double age_s = static_cast<double>(t_mid_ns - m.speed_t_ns) * 1e-9;
   // Recent by time, not by frame count: gvsd skips frames when processing
   // falls behind, and a skipped frame does not make the speed less known.
+  const double age_s = static_cast<double>(t_mid_ns - m.speed_t_ns) * 1e-9;
+  // The lengths the last speed allows now: +-speed_window_fraction, and
+  // what max_accel_mps2 can add or take off since.
+  const double slack_mps = set.max_accel_mps2 * age_s;
+  const double shortest_px =
+      std::max(0.0, (1.0 - set.speed_window_fraction) * m.speed_mps - slack_mps) * t_s / m_per_px - 2.0;
+  const double longest_px = ((1.0 + set.speed_window_fraction) * m.speed_mps + slack_mps) * t_s / m_per_px + 2.0;
   if (m.has_speed && age >= 1 && age_s <= set.speed_memory_s) {
-    const double slack_mps = set.max_accel_mps2 * age_s;
-    const double v_lo = std::max(0.0, (1.0 - set.speed_window_fraction) * m.speed_mps - slack_mps);
-    const double v_hi = (1.0 + set.speed_window_fraction) * m.speed_mps + slack_mps;
-    s.lo_px = std::max(s.lo_px, v_lo * t_s / m_per_px - 2.0);
-    s.clipped = v_hi * t_s / m_per_px + 2.0 > s.hi_px;
-    s.hi_px = std::min(s.hi_px, v_hi * t_s / m_per_px + 2.0);
+    s.min_significance = set.min_streak_significance;
+    s.min_length_px = set.min_streak_px;
+    s.max_background = set.max_streak_background_tracked;
+    s.lo_px = std::max(s.lo_px, shortest_px);
+    s.hi_px = std::min(s.hi_px, longest_px);
+    s.cepstrum_hi_px = std::min(cepstrum_max_px, longest_px);
+    s.cepstrum_sees_all = longest_px <= cepstrum_max_px;
     s.expected_px = m.speed_mps * t_s / m_per_px;
-  } else {
-    s.min_significance = set.min_streak_significance_cold;
-    s.min_length_px = set.min_streak_px_cold;
-    s.max_background = set.max_streak_background;
-    // ... and not shorter than a recent too-long streak allows (less what
-    // max_accel_mps2 can take off since): seen in `sine` seed 4, a texture
-    // "streak end" at 44 px (1.5 m/s) between 500 px streaks (16.7 m/s).
-    const double floor_age_s = static_cast<double>(t_mid_ns - m.speed_floor_t_ns) * 1e-9;
-    if (m.has_speed_floor && floor_age_s >= 0.0 && floor_age_s <= set.speed_memory_s) {
-      const double v_floor = m.speed_floor_mps - set.max_accel_mps2 * floor_age_s;
-      s.lo_px = std::max(s.lo_px, v_floor * t_s / m_per_px - 2.0);
-    }
+    return s;
+  }
+  s.min_significance = set.min_streak_significance_cold;
+  s.min_length_px = set.min_streak_px_cold;
+  s.max_background = set.max_streak_background;
+  // ... and not shorter than a recent too-long streak allows (less what
+  // max_accel_mps2 can take off since): seen in `sine` seed 4, a texture
+  // "streak end" at 44 px (1.5 m/s) between 500 px streaks (16.7 m/s).
+  const double floor_age_s = static_cast<double>(t_mid_ns - m.speed_floor_t_ns) * 1e-9;
+  if (m.has_speed_floor && floor_age_s >= 0.0 && floor_age_s <= set.speed_memory_s) {
+    const double v_floor = m.speed_floor_mps - set.max_accel_mps2 * floor_age_s;
+    s.lo_px = std::max(s.lo_px, v_floor * t_s / m_per_px - 2.0);
+  }
+  // An older speed still bounds the streak: where every length it allows
+  // lies within the cepstrum's reach, the streak cannot have outgrown it.
+  if (m.has_speed && age >= 1 && age_s <= set.reacquire_memory_s && longest_px <= cepstrum_max_px) {
+    s.reacquire = true;
+    s.reacquire_lo_px = shortest_px;
+    s.reacquire_hi_px = longest_px;
   }
   return s;
 }
@@ -90,28 +104,53 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   // every zero of the blur alike, looked at only where needed.
   int cepstrum_agrees = -1;  // not yet looked at
   double cepstrum_px = 0.0;
+  double cepstrum_significance = 0.0;
   const auto vouched = [&] {
     // The cepstrum sees the ground's own troughs too (a fixed lag of its
-    // grain): it vouches only where the window holds every length the
-    // recent speed allows, not for a trough found below a streak that may
-    // have outgrown the window (torcs_wheel1 `accel` seed 3, frame 133:
-    // 137 px from both readings for 170 px, beyond the 161 px measurable).
-    if (search.clipped) return false;
+    // grain): it vouches only where it looks at every length the recent
+    // speed allows, beyond the window too (cepstrum_max_streak_fraction),
+    // not for a trough found below a streak that may have outgrown its range.
+    if (!search.cepstrum_sees_all) return false;
     if (cepstrum_agrees < 0) {
-      const StreakLength c = ws.blur.streak_length_cepstral(ws.spectrum, axis, search.lo_px, search.hi_px);
+      const StreakLength c =
+          ws.blur.streak_length_cepstral(ws.spectrum, axis, search.lo_px, search.cepstrum_hi_px);
       cepstrum_px = c.found ? c.length_px : 0.0;
+      cepstrum_significance = c.significance;
       cepstrum_agrees = c.found && std::abs(c.length_px - len.length_px) <=
                                        set.cepstrum_max_disagreement * len.length_px;
     }
     return cepstrum_agrees == 1;
   };
   const bool cold = search.min_length_px >= set.min_streak_px_cold;
-  const auto passes_gates = [&](const StreakLength& l) {
-    return l.found && l.depth >= set.min_streak_depth && l.significance >= search.min_significance &&
-           l.background <= search.max_background && l.length_px > search.lo_px + 0.5 &&
-           l.length_px < search.hi_px - 0.5;
+  const auto passes = [&](const StreakLength& l, double min_significance, double max_background) {
+    return l.found && l.depth >= set.min_streak_depth && l.significance >= min_significance &&
+           l.background <= max_background && l.length_px > search.lo_px + 0.5 && l.length_px < search.hi_px - 0.5;
   };
-  const bool accepted = passes_gates(len);
+  const auto passes_gates = [&](const StreakLength& l) {
+    return passes(l, search.min_significance, search.max_background);
+  };
+  // Without a recent speed the cold gates hold, unless the power cepstrum,
+  // a second reading that looks beyond the window, stands witness: an end
+  // it puts at the same length needs only the tracked gates (ph_asphalt_04
+  // at 14.4 km/h, 3 ms: the true 120 px ends stand at significance 3-5,
+  // each at the cepstrum's deepest point) where
+  //  - an older speed bounds every length the streak can have now within
+  //    the cepstrum's reach (StreakSearch::reacquire), or
+  //  - the cepstrum's end stands out as far as the tracked bar asks of the
+  //    streak end, and the spectrum is no more elongated than a streak of
+  //    that length makes this ground's (a longer one elongates it more).
+  // Under a streak longer than the reach both readings can find the same
+  // trough of the grain (acg_Asphalt025C, 3 ms at 60 km/h: 113 px for
+  // 500 px; the cepstrum's end there stands at 0.5-0.8 of the ray's spread,
+  // or the spectrum is more elongated than 113 px make it).
+  const auto witnessed = [&] {
+    if (!passes(len, set.min_streak_significance, set.max_streak_background_tracked) || !vouched()) return false;
+    const bool bounded = search.reacquire && len.length_px >= search.reacquire_lo_px &&
+                         len.length_px <= search.reacquire_hi_px;
+    return bounded || (cepstrum_significance >= set.min_streak_significance &&
+                       axis.anisotropy <= ws.blur.streak_anisotropy(ws.spectrum, axis, len.length_px));
+  };
+  const bool accepted = passes_gates(len) || (cold && witnessed());
   // Rival ends as deep as an accepted one: the length the recent speed
   // predicts cannot choose, it lags an accelerating car (`const adaptive
   // under` seed 1 frame 309: 70 px predicted, the end at 75 px and a

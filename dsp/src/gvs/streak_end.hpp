@@ -31,16 +31,27 @@ struct StreakSearch {
   double min_significance = 0.0;
   double min_length_px = 0.0;
   double max_background = 0.0;
-  /// The longest streak the recent speed allows is beyond max_px: the end
-  /// may lie outside the window.
-  bool clipped = false;
+  /// How far the power cepstrum looks: every length the recent speed allows,
+  /// or (no recent speed) up to cepstrum_max_streak_fraction of the frame.
+  double cepstrum_hi_px = 0.0;
+  /// The cepstrum's range holds every length the recent speed allows, or
+  /// there is no recent speed: its deepest end is a witness for the end.
+  bool cepstrum_sees_all = true;
+  /// No recent speed, but one within reacquire_memory_s whose lengths now
+  /// (+-speed_window_fraction, +-max_accel_mps2 since) are all within the
+  /// cepstrum's reach: an end in [reacquire_lo_px, reacquire_hi_px] that
+  /// the cepstrum confirms needs only the tracked gates.
+  bool reacquire = false;
+  double reacquire_lo_px = 0.0;
+  double reacquire_hi_px = 0.0;
 };
 
 /// Around L = v T / s from the last measured speed (recent by time, widened
 /// for +-max_accel), because the texture's own grain can mimic a streak end;
 /// everywhere, with a stricter significance and background, without a
-/// recent speed. `max_px`: the longest measurable streak; `t_s`: light time.
-StreakSearch streak_search(const MotionMemory& m, std::int64_t index, std::int64_t t_mid_ns, double max_px,
+/// recent speed. `extent_px`: the frame's extent along the axis; `t_s`:
+/// light time.
+StreakSearch streak_search(const MotionMemory& m, std::int64_t index, std::int64_t t_mid_ns, double extent_px,
                            double t_s, double m_per_px, const GvsEstimatorSettings& set);
 
 /// The streak end found along the axis, and what it may be used for.

@@ -150,7 +150,8 @@ class BlurAnalyzer {
   /// The same streak end read from the power cepstrum, IDFT(log P) less
   /// each ring's mean (see blur_cepstrum.cpp): the deepest negative point
   /// along `axis` in [min_px, max_px]. Fills found, length_px, d_row_px,
-  /// d_col_px and depth (-C(L)/C(0)); not significance or background.
+  /// d_col_px, depth (-C(L)/C(0)) and significance (-C(L) over the typical
+  /// |C| along the ray in that range); not background.
   /// One more inverse DFT: for frames whose streak end needs vouching for.
   StreakLength streak_length_cepstral(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
                                       double max_px);

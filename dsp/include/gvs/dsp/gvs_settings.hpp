@@ -124,6 +124,9 @@ struct GvsEstimatorSettings {
   /// max_accel_mps2 times the speed's age.
   double speed_window_fraction = 0.15;
   double speed_memory_s = 0.055;     ///< a speed this recent is "recent": 3 frames at 60 fps (by time: frames may be skipped)
+  /// An older speed, up to this age, still bounds the streak for re-acquiring
+  /// it (StreakSearch::reacquire): by max_accel_mps2 times its age.
+  double reacquire_memory_s = 0.5;
   double max_streak_background = 0.07;          ///< typical |A| off the streak end over A(0), no recent speed
   double max_streak_background_tracked = 0.13;  ///< ... searching around a recent speed (narrow window)
   /// Texture power over noise needed for a speed from a streak: below ~4
@@ -145,6 +148,14 @@ struct GvsEstimatorSettings {
   /// at the same RMS.)
   double cepstrum_max_disagreement = 0.03;
   double max_streak_fraction = 0.42; ///< longest measurable streak / frame extent along it
+  /// The power cepstrum looks for the streak end up to this fraction of the
+  /// frame extent, beyond max_streak_fraction (it divides out no window
+  /// overlap): a streak that outgrew the window shows there, deeper than a
+  /// trough of the grain inside it (torcs_wheel1 `accel` seed 3 frame 133:
+  /// 168 px for 170 px, where both readings inside the window say 137 px).
+  /// Beyond half the frame the circular surface puts the streak's alias
+  /// (extent - L) nearer than the streak.
+  double cepstrum_max_streak_fraction = 0.5;
   double min_streak_depth = 0.06;
   double min_streak_significance = 3.5;       ///< streak end over the ray's RMS
   double min_streak_significance_cold = 6.0;  ///< without a previous speed to check against

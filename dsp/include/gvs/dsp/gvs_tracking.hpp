@@ -115,6 +115,13 @@ SignChoice choose_sign(const MotionMemory& m, Vec2 axis_vehicle, std::int64_t t_
 /// A speed was measured within speed_memory_s before t_mid_ns (VelocityEstimate::tracking).
 bool speed_is_recent(const MotionMemory& m, std::int64_t t_mid_ns, const GvsEstimatorSettings& set);
 
+/// `e`, of frame `index` dt_s after the previous one, is a velocity the car
+/// can have reached from the previous frame's (within speed_window_fraction
+/// of its speed plus max_accel_mps2 dt_s, as vectors); true when the
+/// previous frame gave none to compare with.
+bool follows_last_velocity(const MotionMemory& m, const VelocityEstimate& e, std::int64_t index, double dt_s,
+                           const GvsEstimatorSettings& set);
+
 /// After a pair attempt: its raw velocity is the next pair's slope if it matched.
 void note_pair(MotionMemory& m, bool matched, Vec2 v_pair_mps);
 
