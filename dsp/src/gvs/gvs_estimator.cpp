@@ -127,12 +127,12 @@ VelocityEstimate GvsEstimator::estimate_one_light(const FrameView& frame, std::i
     // velocity: 250 px apart along a 384 px frame extent the circular
     // correlation peaks at the alias, 134 px the other way (`spin`
     // adaptive over-exposed at 5.4 km/h), and pair mode would then keep it.
-    const bool explains_streak = (!elongated || (p.has_speed && streak_px >= set_.pair_min_streak_px_elongated)) &&
-                                 follows_last_velocity(motion, p, frame.index, dt_s, set_);
-    if (p.quality >= 0.5 && explains_streak) {
+    const bool credible = (!elongated || (p.has_speed && streak_px >= set_.pair_min_streak_px_elongated)) &&
+                          follows_last_velocity(motion, p, frame.index, dt_s, set_);
+    if (p.quality >= 0.5 && credible) {
       if (!elongated || slope_known) e = p;
       motion.mode = MotionMemory::Mode::pair;
-    } else if (!explains_streak) {
+    } else if (!credible) {
       note_pair(motion, false, {});  // a chance match: not a measurement
       outcome.sign_known = single.sign_known;
     }
