@@ -129,6 +129,11 @@ struct GvsEstimatorSettings {
   double reacquire_memory_s = 0.5;
   double max_streak_background = 0.07;          ///< typical |A| off the streak end over A(0), no recent speed
   double max_streak_background_tracked = 0.13;  ///< ... searching around a recent speed (narrow window)
+  /// A tracked end under the gates above still counts down to these where
+  /// the power cepstrum stands witness (its end within
+  /// cepstrum_max_disagreement, at min_streak_significance or more).
+  double min_streak_significance_witnessed = 2.5;
+  double max_streak_background_witnessed = 0.2;
   /// Texture power over noise needed for a speed from a streak: below ~4
   /// (under-exposed long streaks) the streak end is found 10-60 % short.
   double min_speed_texture_snr = 4.0;
