@@ -107,8 +107,6 @@ StreakLength BlurAnalyzer::streak_length_cepstral(const cv::Mat& spectrum, const
   out.d_row_px = p.d_row;
   out.d_col_px = p.d_col;
   out.length_px = std::hypot(p.d_row, p.d_col);
-  const double c_zero = static_cast<double>(surface_.at<float>(0, 0));
-  out.depth = c_zero > 0.0 ? -detail::at_lag(surface_, br, bc) / c_zero : 0.0;
   out.significance = spread > 0.0 ? -detail::at_lag(surface_, br, bc) / spread : 0.0;
   return out;
 }

@@ -43,12 +43,15 @@ struct StreakLength {
   double length_px = 0.0;
   double d_row_px = 0.0;  ///< the lag of the peak: L times the (refined) axis
   double d_col_px = 0.0;
-  double depth = 0.0;     ///< -A(L)/A(0); ~0.5 for an ideal streak, ~0 when absent
+  /// -A(L)/A(0); ~0.5 for an ideal streak, ~0 when absent (streak_length()
+  /// only: the cepstrum's c(0) is ~0 once each ring's mean is out, and its
+  /// end is weighed by the significance alone).
+  double depth = 0.0;
   /// -A(L) over the typical |A| along the rest of the axis: how far the
   /// streak end stands out of the texture and noise (a streak longer than the
   /// frame leaves only noise, with "peaks" as deep but not standing out).
   double significance = 0.0;
-  double background = 0.0;  ///< that typical |A| over A(0): ~0.04 with a clean streak, >0.1 without
+  double background = 0.0;  ///< that typical |A| over A(0): ~0.04 with a clean streak, >0.1 without (streak_length() only)
   /// Other ends along the ray at least 85 % as deep as the deepest and at
   /// least 4 px from this one: the surface alone cannot tell which is the
   /// streak's (streak_length() only; 0 from the cepstrum).
@@ -150,8 +153,8 @@ class BlurAnalyzer {
   /// The same streak end read from the power cepstrum, IDFT(log P) less
   /// each ring's mean (see blur_cepstrum.cpp): the deepest negative point
   /// along `axis` in [min_px, max_px]. Fills found, length_px, d_row_px,
-  /// d_col_px, depth (-C(L)/C(0)) and significance (-C(L) over the typical
-  /// |C| along the ray in that range); not background.
+  /// d_col_px and significance (-C(L) over the typical |C| along the ray in
+  /// that range); not depth, background or rivals.
   /// One more inverse DFT: for frames whose streak end needs vouching for.
   StreakLength streak_length_cepstral(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
                                       double max_px);
