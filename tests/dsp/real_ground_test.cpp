@@ -126,6 +126,22 @@ RunScore grain_run(const char* photo, const char* scenario, double seconds, std:
   return s;
 }
 
+/// 1.5 -> 4 m/s (14.4 km/h) along the rows in 0.5 s, then 4 m/s, up to
+/// `seconds`, on ph_asphalt_04 with 3 ms, seed 1, scored after `skip_s`
+/// (and printed under `title`; each frame too with GVS_TEST_VERBOSE set).
+RunScore ph_ramp_to_14_kmh(double seconds, double skip_s, const char* title) {
+  drivers::SimulatorConfig c;
+  c.seed = 1;
+  c.ground = photo_ground("ph_asphalt_04_1024.png");
+  drivers::sim::Scenario ramp{"ramp-hold", seconds, [](double t_s) {
+                                return drivers::sim::BodyMotion{1.5 + 2.5 * std::min(t_s / 0.5, 1.0), 0.0, 0.0};
+                              }};
+  drivers::Simulator sim(c, ramp);
+  RunScore s = run_and_score(sim, dsp::ExposureMode::fixed, skip_s, std::getenv("GVS_TEST_VERBOSE") != nullptr);
+  print_score(title, s);
+  return s;
+}
+
 TEST(PhotographedGroundGrain, WeaklyElongatedSpectrumTiltedByTheGrainStillFindsTheStreakEnd) {
   // acg_Asphalt025C has a grain of its own: at 2 m/s and 60 deg (crawl,
   // 60 px streaks with 3 ms, anisotropy 0.76-0.8, axis not refined) it tilts
@@ -173,23 +189,14 @@ TEST(PhotographedGroundGrain, AStreakOutgrowingTheWindowIsNotReadAtATroughOfTheG
 }
 
 TEST(PhotographedGroundGrain, AFaintStreakWithoutARecentSpeedCountsWhereTheCepstrumStandsWitness) {
-  // 1.5 -> 4 m/s in 0.5 s, then 4 m/s (14.4 km/h) with 3 ms on
-  // ph_asphalt_04: 120 px streaks whose end barely stands out
+  // ph_ramp_to_14_kmh for 1.5 s: 120 px streaks whose end barely stands out
   // (significance 3-5, texture SNR 1.2-2). After a few frames below the
   // tracked gates the speed is no longer recent, and the cold gates
   // (significance 6) refuse the true ends. The power cepstrum, looking
   // beyond the window, stands witness for them (find_streak_end): seeds
   // 1-4 give a speed on 87-93 % of these frames (with the tracked ends it
   // witnesses too; the cold gates alone, seed 1: 29 %).
-  drivers::SimulatorConfig c;
-  c.seed = 1;
-  c.ground = photo_ground("ph_asphalt_04_1024.png");
-  drivers::sim::Scenario ramp{"ramp", 1.5, [](double t_s) {
-                                return drivers::sim::BodyMotion{1.5 + 2.5 * std::min(t_s / 0.5, 1.0), 0.0, 0.0};
-                              }};
-  drivers::Simulator sim(c, ramp);
-  const RunScore s = run_and_score(sim, dsp::ExposureMode::fixed, 0.0, std::getenv("GVS_TEST_VERBOSE") != nullptr);
-  print_score("ph_asphalt_04 1.5-4 m/s 3 ms", s);
+  const RunScore s = ph_ramp_to_14_kmh(1.5, 0.0, "ph_asphalt_04 1.5-4 m/s 3 ms");
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 80);
   EXPECT_GE(b.speed_coverage(), 0.55);
@@ -206,15 +213,7 @@ TEST(PhotographedGroundGrain, ATrackedEndUnderTheGatesCountsWhereTheCepstrumStan
   // corroborated). Each end refused lets the speed grow old and the next
   // frames fall to the cold gates. Seeds 1-4: a speed on 91-93 % of the
   // frames after 0.5 s (the tracked gates alone: 58-73 %).
-  drivers::SimulatorConfig c;
-  c.seed = 1;
-  c.ground = photo_ground("ph_asphalt_04_1024.png");
-  drivers::sim::Scenario ramp{"ramp-hold", 2.5, [](double t_s) {
-                                return drivers::sim::BodyMotion{1.5 + 2.5 * std::min(t_s / 0.5, 1.0), 0.0, 0.0};
-                              }};
-  drivers::Simulator sim(c, ramp);
-  const RunScore s = run_and_score(sim, dsp::ExposureMode::fixed, 0.5, std::getenv("GVS_TEST_VERBOSE") != nullptr);
-  print_score("ph_asphalt_04 4 m/s 3 ms, tracked", s);
+  const RunScore s = ph_ramp_to_14_kmh(2.5, 0.5, "ph_asphalt_04 4 m/s 3 ms, tracked");
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 100);
   EXPECT_GE(b.speed_coverage(), 0.85);

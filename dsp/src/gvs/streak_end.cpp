@@ -159,7 +159,7 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   // the search. ph_asphalt_04 at 14.4 km/h, 3 ms: true 120 px ends at
   // significance 2.9-3.5 or background 0.13-0.2; over 54 seed-1 runs (every
   // ground, every exposure mode) the ends this admits lie within 2.2 % of
-  // the truth (docs/estimator.md, "Photographed ground: limits").
+  // the truth (docs/estimator.md, "Measures against false answers").
   const auto corroborated = [&] {
     return passes(len, set.min_streak_significance_witnessed, set.max_streak_background_witnessed) && vouched() &&
            cepstrum_significance >= set.min_streak_significance;
