@@ -164,6 +164,18 @@ TEST(StreakAnalysis, TwoEndsAsDeepAreRivals) {
     EXPECT_NEAR(len.length_px, expected_px, 1.0);
     EXPECT_GE(len.rivals, 1);
   }
+  // The rival ends read again on the same autocorrelation, after the
+  // cepstrum has run (streak_end.cpp asks it in between): as a fresh search.
+  const StreakLength first = blur.streak_length(f, axis, 20.0, 160.0, 60.0);
+  (void)blur.streak_length_cepstral(f, axis, 20.0, 160.0);
+  const StreakLength again = blur.streak_length_again(20.0, 160.0, 75.0);
+  const StreakLength fresh = blur.streak_length(f, axis, 20.0, 160.0, 75.0);
+  ASSERT_TRUE(again.found);
+  EXPECT_NEAR(first.length_px, 60.0, 1.0);
+  EXPECT_EQ(again.length_px, fresh.length_px);
+  EXPECT_EQ(again.significance, fresh.significance);
+  EXPECT_EQ(again.background, fresh.background);
+  EXPECT_EQ(again.rivals, fresh.rivals);
 }
 
 // The anisotropy a streak of L px would give, predicted from the ground's

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "gvs/dsp/dft.hpp"
 #include "gvs/dsp/spectrum.hpp"
 #include "search_spans.hpp"
 
@@ -72,6 +73,62 @@ TEST(SearchSpans, StripColumnsHoldEveryBinOfTheStripInColumnOrder) {
     // (nearly) parallel to the rows and the whole row may be in it.
     if (std::abs(u_col) > 1e-6) {
       EXPECT_LE(visited.size(), strip.size() + 4) << "theta " << theta;
+    }
+  }
+}
+
+// Sums over the half spectrum, each bin counted for itself and its mirror,
+// against sums over the full spectrum of the same frame (DftPlan's mirrored
+// output): the moments streak_axis() and refine_axis() take, over the whole
+// spectrum and over strips, with even and odd widths.
+TEST(SearchSpans, HalfSpectrumSumsEqualTheFullSpectrums) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> grey(0.0f, 255.0f);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi);
+  for (const cv::Size size : {cv::Size(64, 48), cv::Size(65, 48), cv::Size(64, 47)}) {
+    cv::Mat frame(size, CV_32F);
+    for (int r = 0; r < size.height; ++r) {
+      for (int c = 0; c < size.width; ++c) frame.at<float>(r, c) = grey(rng);
+    }
+    cv::Mat full;
+    cv::Mat half;
+    DftPlan(DftPlan::Direction::forward_real_to_complex, size).run(frame, full);
+    DftPlan(DftPlan::Direction::forward_real_to_half_complex, size).run(frame, half);
+    const std::vector<double> k_row = angular_frequencies(size.height);
+    const std::vector<double> k_col = angular_frequencies(size.width);
+    for (int trial = 0; trial < 20; ++trial) {
+      const double theta = angle(rng);
+      const double u_row = std::sin(theta);
+      const double u_col = std::cos(theta);
+      const double h = trial == 0 ? 10.0 : 0.3;  // the first: every bin
+      double full_rc = 0.0;
+      double half_rc = 0.0;
+      double full_p = 0.0;
+      double half_p = 0.0;
+      for (int r = 0; r < size.height; ++r) {
+        // The row k_row = -pi (even heights) is its own mirror with k_col
+        // negated, so f must be even in k_col there too; the estimator's
+        // sums weigh it 0 (its band ends at 2.6 rad/px).
+        if (2 * r == size.height) continue;
+        const double kr = k_row[static_cast<std::size_t>(r)];
+        const auto in_strip = [&](int c) { return std::abs(kr * u_row + k_col[static_cast<std::size_t>(c)] * u_col) <= h; };
+        for (int c = 0; c < size.width; ++c) {
+          const auto& x = full.at<cv::Vec2f>(r, c);
+          if (!in_strip(c)) continue;
+          const double p = static_cast<double>(x[0] * x[0] + x[1] * x[1]);
+          full_p += p;
+          full_rc += p * kr * k_col[static_cast<std::size_t>(c)];
+        }
+        const detail::StripColumns s = detail::strip_columns(size.width, kr * u_row, u_col, h);
+        detail::for_each_half_power(half, r, s, [&](int c, float power, double m) {
+          if (!in_strip(c)) return;
+          half_p += m * static_cast<double>(power);
+          half_rc += m * static_cast<double>(power) * kr * k_col[static_cast<std::size_t>(c)];
+        });
+      }
+      ASSERT_GT(full_p, 0.0);
+      EXPECT_NEAR(half_p, full_p, 1e-9 * full_p) << size.width << "x" << size.height << " theta " << theta << " h " << h;
+      EXPECT_NEAR(half_rc, full_rc, 1e-9 * full_p * kPi * kPi) << size.width << "x" << size.height << " theta " << theta << " h " << h;
     }
   }
 }

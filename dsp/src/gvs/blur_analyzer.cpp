@@ -52,6 +52,7 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
   }
   power_ = cv::Mat::zeros(size, CV_32FC2);  // the columns past cols/2 stay 0, never read
   surface_.create(size, CV_32F);
+  cepstrum_.create(size, CV_32F);
   row_max_.assign(static_cast<std::size_t>(size.height), 0.0);
   // The noise floor's bins (noise_floor): in each row one run of columns
   // around k_col = +-pi (|k_col| rises to pi at the middle column).
@@ -79,7 +80,8 @@ double BlurAnalyzer::noise_floor(const cv::Mat& spectrum) const {
   long n = 0;
   for (int r = 0; r < spectrum.rows; ++r) {
     const auto [first, end] = floor_cols_[static_cast<std::size_t>(r)];
-    detail::for_each_power(spectrum, r, first, end, [&sum](int, float power) { sum += static_cast<double>(power); });
+    detail::for_each_half_power(spectrum, r, first, end,
+                                [&sum](int, float power, double m) { sum += m * static_cast<double>(power); });
     n += end - first;
   }
   return n > 0 ? sum / static_cast<double>(n) : 0.0;

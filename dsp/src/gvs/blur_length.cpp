@@ -40,7 +40,6 @@ constexpr double kAxialRollOff = 1.0 / (2.0 * 0.4 * 0.4);  // exp(-(k.u)^2 / (2 
 StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAxis& axis,
                                          double min_px, double max_px, double expected_px,
                                          double axis_tan) {
-  StreakLength out;
   const double n0 = noise_floor(spectrum);
   // Only the columns the inverse DFT reads (DftPlan: 0 .. cols/2; the rest
   // is their mirror image).
@@ -64,6 +63,14 @@ StreakLength BlurAnalyzer::streak_length(const cv::Mat& spectrum, const StreakAx
     }
   }
   inverse_dft_.run(power_, surface_);
+  surface_axis_ = axis;
+  return streak_length_again(min_px, max_px, expected_px, axis_tan);
+}
+
+StreakLength BlurAnalyzer::streak_length_again(double min_px, double max_px, double expected_px,
+                                               double axis_tan) {
+  StreakLength out;
+  const StreakAxis& axis = surface_axis_;
   const double a0 = static_cast<double>(surface_.at<float>(0, 0));
   if (a0 <= 0.0) return out;
 

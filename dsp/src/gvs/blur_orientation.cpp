@@ -38,17 +38,15 @@ void BlurAnalyzer::ring_gain(const cv::Mat& spectrum, const StreakAxis* line, do
     } else {
       columns.end[0] = spectrum.cols;
     }
-    for (int run = 0; run < 2; ++run) {
-      detail::for_each_power(spectrum, r, columns.begin[run], columns.end[run], [&](int c, float power) {
-        const double kc = k_col_[static_cast<std::size_t>(c)];
-        if (w[c] == 0.0f) return;
-        if (line != nullptr && std::abs(kr * line->u_row + kc * line->u_col) > half_width) return;
-        const auto ring = static_cast<std::size_t>(rings[c]);
-        if (ring >= sum.size()) return;
-        sum[ring] += static_cast<double>(power);
-        count[ring] += 1.0;
-      });
-    }
+    detail::for_each_half_power(spectrum, r, columns, [&](int c, float power, double m) {
+      const double kc = k_col_[static_cast<std::size_t>(c)];
+      if (w[c] == 0.0f) return;
+      if (line != nullptr && std::abs(kr * line->u_row + kc * line->u_col) > half_width) return;
+      const auto ring = static_cast<std::size_t>(rings[c]);
+      if (ring >= sum.size()) return;
+      sum[ring] += m * static_cast<double>(power);
+      count[ring] += m;
+    });
   }
   const double n0 = noise_floor(spectrum);
   for (std::size_t i = 0; i < gain.size(); ++i) {
@@ -72,15 +70,15 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum, const RingGain* ga
     double a_rr = 0.0;
     double a_cc = 0.0;
     double a_rc = 0.0;
-    detail::for_each_power(spectrum, r, 0, spectrum.cols, [&](int c, float power) {
+    detail::for_each_half_power(spectrum, r, 0, spectrum.cols, [&](int c, float power, double m) {
       const double kc = k_col_[static_cast<std::size_t>(c)];
-      const double band_power = static_cast<double>(w[c]) * (static_cast<double>(power) - n0);
+      const double band_power = m * static_cast<double>(w[c]) * (static_cast<double>(power) - n0);
       const double p = gain_at(gain, rings, c) * band_power;
       a_cc += p * kc * kc;
       a_rc += p * kc;
       a_rr += p;
       signal += band_power;  // the SNR without the gain
-      noise += static_cast<double>(w[c]) * n0;
+      noise += m * static_cast<double>(w[c]) * n0;
     });
     m_rr += a_rr * kr * kr;
     m_rc += a_rc * kr;
@@ -108,14 +106,12 @@ double BlurAnalyzer::line_snr(const cv::Mat& spectrum, const StreakAxis& axis, d
     const double kr = k_row_[static_cast<std::size_t>(r)];
     const float* w = band_.ptr<float>(r);
     const detail::StripColumns columns = detail::strip_columns(spectrum.cols, kr * axis.u_row, axis.u_col, half_width);
-    for (int run = 0; run < 2; ++run) {
-      detail::for_each_power(spectrum, r, columns.begin[run], columns.end[run], [&](int c, float power) {
-        const double kc = k_col_[static_cast<std::size_t>(c)];
-        if (std::abs(kr * axis.u_row + kc * axis.u_col) > half_width) return;
-        signal += static_cast<double>(w[c]) * (static_cast<double>(power) - n0);
-        noise += static_cast<double>(w[c]) * n0;
-      });
-    }
+    detail::for_each_half_power(spectrum, r, columns, [&](int c, float power, double m) {
+      const double kc = k_col_[static_cast<std::size_t>(c)];
+      if (std::abs(kr * axis.u_row + kc * axis.u_col) > half_width) return;
+      signal += m * static_cast<double>(w[c]) * (static_cast<double>(power) - n0);
+      noise += m * static_cast<double>(w[c]) * n0;
+    });
   }
   return noise > 0.0 ? signal / noise : 0.0;
 }
@@ -155,21 +151,19 @@ StreakAxis BlurAnalyzer::refine_axis(const cv::Mat& spectrum, const StreakAxis& 
       // Bins beyond g = 8 (|k.u| > 4 sigma) weigh less than exp(-8): skipped.
       const detail::StripColumns columns =
           detail::strip_columns(spectrum.cols, kr * axis.u_row, axis.u_col, strip_half_width);
-      for (int run = 0; run < 2; ++run) {
-        detail::for_each_power(spectrum, r, columns.begin[run], columns.end[run], [&](int c, float power) {
-          const double kc = k_col_[static_cast<std::size_t>(c)];
-          const double ku = kr * axis.u_row + kc * axis.u_col;
-          const double g = ku * ku * inv2s2;
-          if (g > 8.0 || w[c] == 0.0f) return;
-          const double k_weight =
-              (high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0) * gain_at(gain, rings, c);
-          const double p =
-              static_cast<double>(w[c]) * std::exp(-g) * k_weight * (static_cast<double>(power) - n0);
-          m_rr += p * kr * kr;
-          m_cc += p * kc * kc;
-          m_rc += p * kr * kc;
-        });
-      }
+      detail::for_each_half_power(spectrum, r, columns, [&](int c, float power, double m) {
+        const double kc = k_col_[static_cast<std::size_t>(c)];
+        const double ku = kr * axis.u_row + kc * axis.u_col;
+        const double g = ku * ku * inv2s2;
+        if (g > 8.0 || w[c] == 0.0f) return;
+        const double k_weight =
+            (high_k_weight ? std::min(kr * kr + kc * kc, cap2) : 1.0) * gain_at(gain, rings, c);
+        const double p =
+            m * static_cast<double>(w[c]) * std::exp(-g) * k_weight * (static_cast<double>(power) - n0);
+        m_rr += p * kr * kr;
+        m_cc += p * kc * kc;
+        m_rc += p * kr * kc;
+      });
     }
     if (m_rr + m_cc <= 0.0) break;
     const double theta = 0.5 * std::atan2(2.0 * m_rc, m_rr - m_cc);

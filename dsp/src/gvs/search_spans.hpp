@@ -79,23 +79,38 @@ inline StripColumns strip_columns(int cols, double a, double b, double h) {
   return s;
 }
 
-/// f(c, |X(r, c)|^2) for c = begin .. end - 1 in order, from the columns
-/// 0 .. cols/2 of a real image's spectrum X (CV_32FC2) only: past them
-/// X(r, c) = conj(X(-r, -c)), whose power is the same float (the sign of the
-/// imaginary part squares away). So a spectrum need not be mirrored out
-/// (DftPlan, forward_real_to_half_complex) for sums over every bin.
+/// f(c, |X(r, c)|^2, m) for c = begin .. end - 1 among the columns
+/// 0 .. cols/2 the spectrum holds, in order; m is how many bins of the whole
+/// spectrum the bin stands for: 2, its mirror X(-r, -c) = conj X(r, c)
+/// lying past cols/2, or 1 in the columns 0 and cols/2 (even cols), which
+/// hold their own mirrors. Summed over every row, m f equals the sum of f
+/// over every bin for any f with f(-k) = f(k) (a moment k k^T, a ring of
+/// |k|, a strip |k.u| <= h), read from the columns 0 .. cols/2 alone
+/// (DftPlan, forward_real_to_half_complex), each bin once. (The row
+/// k_row = -pi of an even height is its own mirror with k_col negated: f
+/// must be even in k_col there too, or weigh it 0 as the band does.)
 template <class F>
-void for_each_power(const cv::Mat& spectrum, int r, int begin, int end, F&& f) {
-  const int rows = spectrum.rows;
+void for_each_half_power(const cv::Mat& spectrum, int r, int begin, int end, F&& f) {
   const int cols = spectrum.cols;
-  const int half_end = std::min(end, cols / 2 + 1);
+  const int last = cols / 2;  // the last column held
+  const int stop = std::min(end, last + 1);
   const auto* x = spectrum.ptr<cv::Vec2f>(r);
-  for (int c = begin; c < half_end; ++c) f(c, x[c][0] * x[c][0] + x[c][1] * x[c][1]);
-  const auto* mirror = spectrum.ptr<cv::Vec2f>((rows - r) % rows);
-  for (int c = std::max(begin, cols / 2 + 1); c < end; ++c) {
-    const cv::Vec2f& m = mirror[cols - c];
-    f(c, m[0] * m[0] + m[1] * m[1]);
+  const auto power = [x](int c) { return x[c][0] * x[c][0] + x[c][1] * x[c][1]; };
+  int c = std::max(begin, 0);
+  if (c == 0 && c < stop) {
+    f(0, power(0), 1.0);
+    ++c;
   }
+  const int interior_stop = cols % 2 == 0 ? std::min(stop, last) : stop;
+  for (; c < interior_stop; ++c) f(c, power(c), 2.0);
+  if (c == last && c < stop) f(c, power(c), 1.0);
+}
+
+/// for_each_half_power() over the strip_columns() of a row: the columns
+/// of both runs that the half spectrum holds.
+template <class F>
+void for_each_half_power(const cv::Mat& spectrum, int r, const StripColumns& columns, F&& f) {
+  for (int run = 0; run < 2; ++run) for_each_half_power(spectrum, r, columns.begin[run], columns.end[run], f);
 }
 
 }  // namespace gvs::dsp::detail

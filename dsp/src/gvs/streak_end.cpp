@@ -174,7 +174,7 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
     end.ambiguous = true;
     if (cepstrum_px > 0.0) {
       const StreakLength nearest =
-          ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, cepstrum_px, axis_tan);
+          ws.blur.streak_length_again(search.lo_px, search.hi_px, cepstrum_px, axis_tan);
       if (passes_gates(nearest) &&
           std::abs(nearest.length_px - cepstrum_px) <= set.cepstrum_max_disagreement * nearest.length_px) {
         end.length = nearest;

@@ -150,6 +150,12 @@ class BlurAnalyzer {
   StreakLength streak_length(const cv::Mat& spectrum, const StreakAxis& axis, double min_px,
                              double max_px, double expected_px = 0.0, double axis_tan = 0.0);
 
+  /// streak_length() again on the autocorrelation its last call made (same
+  /// spectrum and axis), with another range or expected length: no power
+  /// pass and no inverse DFT. streak_length_cepstral() leaves it as it is.
+  StreakLength streak_length_again(double min_px, double max_px, double expected_px = 0.0,
+                                   double axis_tan = 0.0);
+
   /// The same streak end read from the power cepstrum, IDFT(log P) less
   /// each ring's mean (see blur_cepstrum.cpp): the deepest negative point
   /// along `axis` in [min_px, max_px]. Fills found, length_px, d_row_px,
@@ -179,6 +185,8 @@ class BlurAnalyzer {
   cv::Mat double_band_;  ///< band_ without the column pattern's rows (double_image)
   cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0); columns 0 .. cols/2 only
   cv::Mat surface_;  ///< CV_32F autocorrelation
+  StreakAxis surface_axis_;  ///< the axis streak_length() last weighted surface_ for
+  cv::Mat cepstrum_;  ///< CV_32F power cepstrum (streak_length_cepstral)
   std::vector<double> row_max_;  ///< double_image(): per row lag, its highest value in the search
   WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
   DftPlan inverse_dft_;  ///< planned for `size` at construction
