@@ -65,12 +65,12 @@ struct RunScore {
 /// Simulates `config` and scores the estimator. `mode` closes the exposure
 /// loop through next_exposure(); `skip_s` ignores the first seconds (start-up).
 inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, double skip_s = 0.0,
-                              bool verbose = false) {
+                              bool verbose = false, const dsp::GvsEstimatorSettings& settings = {}) {
   const drivers::SimulatorConfig& config = sim.config();
   dsp::EstimatorConfig ec;
   ec.method = "gvs";
   ec.camera = config.camera;
-  dsp::GvsEstimator est(ec);
+  dsp::GvsEstimator est(ec, settings);
   const dsp::ExposureLimits limits = dsp::exposure_limits_for(config.camera, config.fps);
   dsp::ExposurePlan plan;
   plan.exposure_us = config.exposure_us;

@@ -127,17 +127,19 @@ RunScore grain_run(const char* photo, const char* scenario, double seconds, std:
 }
 
 /// 1.5 -> 4 m/s (14.4 km/h) along the rows in 0.5 s, then 4 m/s, up to
-/// `seconds`, on ph_asphalt_04 with 3 ms, seed 1, scored after `skip_s`
-/// (and printed under `title`; each frame too with GVS_TEST_VERBOSE set).
-RunScore ph_ramp_to_14_kmh(double seconds, double skip_s, const char* title) {
+/// `seconds`, on ph_asphalt_04 with 3 ms, scored after `skip_s` (and
+/// printed under `title`; each frame too with GVS_TEST_VERBOSE set).
+RunScore ph_ramp_to_14_kmh(double seconds, double skip_s, const char* title, std::uint64_t seed = 1,
+                           const dsp::GvsEstimatorSettings& settings = {}) {
   drivers::SimulatorConfig c;
-  c.seed = 1;
+  c.seed = seed;
   c.ground = photo_ground("ph_asphalt_04_1024.png");
   drivers::sim::Scenario ramp{"ramp-hold", seconds, [](double t_s) {
                                 return drivers::sim::BodyMotion{1.5 + 2.5 * std::min(t_s / 0.5, 1.0), 0.0, 0.0};
                               }};
   drivers::Simulator sim(c, ramp);
-  RunScore s = run_and_score(sim, dsp::ExposureMode::fixed, skip_s, std::getenv("GVS_TEST_VERBOSE") != nullptr);
+  RunScore s =
+      run_and_score(sim, dsp::ExposureMode::fixed, skip_s, std::getenv("GVS_TEST_VERBOSE") != nullptr, settings);
   print_score(title, s);
   return s;
 }
@@ -220,6 +222,33 @@ TEST(PhotographedGroundGrain, ATrackedEndUnderTheGatesCountsWhereTheCepstrumStan
   EXPECT_LE(b.speed_rms(), 0.01);
   EXPECT_LE(b.speed_max, 0.05);
   EXPECT_EQ(s.valid_speed_off, 0);
+}
+
+TEST(PhotographedGroundGrain, TrackedReadingsAFewPercentApartGiveTheirMean) {
+  // The same 14.4 km/h, tracked, on four seeds. Around a recent speed the
+  // streak end and the power cepstrum's end may lie up to 5 % apart
+  // (cepstrum_max_disagreement_tracked), their mean then the length: more
+  // frames get a speed than with the 3 % that holds without a recent
+  // speed (seeds 1-4: 95.0, 92.5, 94.2, 94.2 % against 91.7, 92.5, 92.5,
+  // 90.8 %), none off by more than 2.7 %.
+  dsp::GvsEstimatorSettings strict;
+  strict.cepstrum_max_disagreement_tracked = strict.cepstrum_max_disagreement;
+  int with_speed = 0;
+  int with_speed_strict = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    const std::string title = "ph_asphalt_04 4 m/s 3 ms, tracked, seed " + std::to_string(seed);
+    const RunScore s = ph_ramp_to_14_kmh(2.5, 0.5, title.c_str(), seed);
+    const RunScore t = ph_ramp_to_14_kmh(2.5, 0.5, (title + ", 3 %").c_str(), seed, strict);
+    const BandScore& b = s.bands[1];  // 5-15 km/h
+    ASSERT_GT(b.frames, 100);
+    with_speed += b.with_speed;
+    with_speed_strict += t.bands[1].with_speed;
+    EXPECT_LE(b.speed_rms(), 0.01) << "seed " << seed;
+    EXPECT_LE(b.speed_max, 0.03) << "seed " << seed;
+    EXPECT_EQ(s.valid_speed_off, 0) << "seed " << seed;
+  }
+  std::printf("frames with a speed, seeds 1-4: %d (3 %% apart at most: %d)\n", with_speed, with_speed_strict);
+  EXPECT_GE(with_speed, with_speed_strict + 6);  // 451 against 441
 }
 
 TEST_P(PhotographedGround, AdaptiveStrobeAt130KmhGivesTheSpeedOfFaintStreaks) {

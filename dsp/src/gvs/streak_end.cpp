@@ -101,27 +101,30 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
         ws.blur.streak_length(ws.spectrum, axis, search.lo_px, search.hi_px, search.expected_px, axis_tan);
   }
   // The power cepstrum: a second reading of the same streak that weighs
-  // every zero of the blur alike, looked at only where needed.
-  int cepstrum_agrees = -1;  // not yet looked at
-  double cepstrum_px = 0.0;
+  // every zero of the blur alike, read only where needed, once.
+  bool cepstrum_read = false;
+  double cepstrum_px = 0.0;  // 0: it found no end
   double cepstrum_significance = 0.0;
-  const auto vouched = [&] {
+  const auto cepstrum_within = [&](double tolerance) {
     // The cepstrum sees the ground's own troughs too (a fixed lag of its
     // grain): it vouches only where it looks at every length the recent
     // speed allows, beyond the window too (cepstrum_max_streak_fraction),
     // not for a trough found below a streak that may have outgrown its range.
     if (!search.cepstrum_sees_all) return false;
-    if (cepstrum_agrees < 0) {
+    if (!cepstrum_read) {
       const StreakLength c =
           ws.blur.streak_length_cepstral(ws.spectrum, axis, search.lo_px, search.cepstrum_hi_px);
       cepstrum_px = c.found ? c.length_px : 0.0;
       cepstrum_significance = c.significance;
-      cepstrum_agrees = c.found && std::abs(c.length_px - len.length_px) <=
-                                       set.cepstrum_max_disagreement * len.length_px;
+      cepstrum_read = true;
     }
-    return cepstrum_agrees == 1;
+    return cepstrum_px > 0.0 && std::abs(cepstrum_px - len.length_px) <= tolerance * len.length_px;
   };
   const bool cold = search.min_length_px >= set.min_streak_px_cold;
+  // Around a recent speed the two readings may lie further apart
+  // (cepstrum_max_disagreement_tracked): their mean is then the length.
+  const double vouch_tolerance = cold ? set.cepstrum_max_disagreement : set.cepstrum_max_disagreement_tracked;
+  const auto vouched = [&] { return cepstrum_within(vouch_tolerance); };
   const auto passes = [&](const StreakLength& l, double min_significance, double max_background) {
     return l.found && l.depth >= set.min_streak_depth && l.significance >= min_significance &&
            l.background <= max_background && l.length_px > search.lo_px + 0.5 && l.length_px < search.hi_px - 0.5;
@@ -152,14 +155,14 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   };
   // With a recent speed, an end under the tracked gates counts where the
   // cepstrum stands witness the same way: its own end within
-  // cepstrum_max_disagreement, standing out by the tracked bar. The two
-  // readings weigh the spectrum differently (every zero alike; the
+  // cepstrum_max_disagreement_tracked, standing out by the tracked bar. The
+  // two readings weigh the spectrum differently (every zero alike; the
   // strongest |k|), so a trough of the grain in one seldom sits in the
   // other at the same length, and the recent speed has already narrowed
   // the search. ph_asphalt_04 at 14.4 km/h, 3 ms: true 120 px ends at
-  // significance 2.9-3.5 or background 0.13-0.2; over 54 seed-1 runs (every
-  // ground, every exposure mode) the ends this admits lie within 2.2 % of
-  // the truth (docs/estimator.md, "Measures against false answers").
+  // significance 2.9-3.5 or background 0.13-0.2; over 70 replays (every
+  // ground, every exposure mode, seeds 1-4) the ends this admits lie within
+  // 3.5 % of the truth (docs/estimator.md, "Measures against false answers").
   const auto corroborated = [&] {
     return passes(len, set.min_streak_significance_witnessed, set.max_streak_background_witnessed) && vouched() &&
            cepstrum_significance >= set.min_streak_significance;
@@ -170,7 +173,9 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   // under` seed 1 frame 309: 70 px predicted, the end at 75 px and a
   // trough at 70 px that would read 6 % slow at quality 0.39). The cepstrum
   // decides: the end nearest to its length, and no speed unless they agree.
-  if (accepted && len.rivals > 0 && !vouched()) {
+  // Choosing between ends a few percent apart takes the close agreement
+  // (cepstrum_max_disagreement), also around a recent speed.
+  if (accepted && len.rivals > 0 && !cepstrum_within(set.cepstrum_max_disagreement)) {
     end.ambiguous = true;
     if (cepstrum_px > 0.0) {
       const StreakLength nearest =
@@ -178,7 +183,6 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
       if (passes_gates(nearest) &&
           std::abs(nearest.length_px - cepstrum_px) <= set.cepstrum_max_disagreement * nearest.length_px) {
         end.length = nearest;
-        cepstrum_agrees = 1;
         end.ambiguous = false;
       }
     }
@@ -213,7 +217,7 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
                   !(beyond_dark_max && !(well_lit && vouched()));
   // Two readings of one end, each off by its own texture: the speed takes
   // their mean (the lag keeps its direction).
-  if (end.has_speed && cepstrum_agrees == 1) {
+  if (end.has_speed && cepstrum_read && vouched()) {
     const double scale = 0.5 * (1.0 + cepstrum_px / len.length_px);
     end.length.length_px *= scale;
     end.length.d_row_px *= scale;
