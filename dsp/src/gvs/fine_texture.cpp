@@ -12,19 +12,20 @@ FineTexture measure_fine_texture(const cv::Mat& gray) {
   if (gray.empty() || gray.type() != CV_8UC1 || gray.rows < 8 || gray.cols < 8) return out;
   // Steps (d_row, d_col): along a row, down a column, and the two diagonals.
   constexpr std::array<std::array<int, 2>, 4> kSteps{{{0, 1}, {1, 0}, {1, 1}, {1, -1}}};
-  std::array<double, 4> d1{};
-  std::array<double, 4> d2{};
+  // Sums of squared grey-level steps in integers: exact, as in double.
+  std::array<std::int64_t, 4> d1{};
+  std::array<std::int64_t, 4> d2{};
   std::int64_t n = 0;
   for (int r = 2; r + 4 < gray.rows; r += 2) {
     const std::uint8_t* row[5];
     for (int k = 0; k < 5; ++k) row[k] = gray.ptr<std::uint8_t>(r + k);
     for (int c = 4; c + 4 < gray.cols; c += 2) {
-      const double g0 = row[0][c];
+      const int g0 = row[0][c];
       for (std::size_t s = 0; s < kSteps.size(); ++s) {
         const int dr = kSteps[s][0];
         const int dc = kSteps[s][1];
-        const double e1 = row[dr][c + dc] - g0;
-        const double e2 = row[2 * dr][c + 2 * dc] - g0;
+        const int e1 = row[dr][c + dc] - g0;
+        const int e2 = row[2 * dr][c + 2 * dc] - g0;
         d1[s] += e1 * e1;
         d2[s] += e2 * e2;
       }
@@ -36,8 +37,8 @@ FineTexture measure_fine_texture(const cv::Mat& gray) {
   std::array<double, 4> t{};
   double d1_sum = 0.0;
   for (std::size_t s = 0; s < t.size(); ++s) {
-    t[s] = (d2[s] - d1[s]) / nn;
-    d1_sum += d1[s] / nn;
+    t[s] = (static_cast<double>(d2[s]) - static_cast<double>(d1[s])) / nn;
+    d1_sum += static_cast<double>(d1[s]) / nn;
   }
   // Quadratic form: T(u) = a u_x^2 + 2 b u_x u_y + c u_y^2 (x along a row).
   // The diagonal steps are sqrt(2) long: T(1,1) - T(1,-1) = 4 b.

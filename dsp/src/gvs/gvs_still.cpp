@@ -31,27 +31,34 @@ StillCheck check_still(const cv::Mat& gray, double mean_grey, const PreviousFram
   StillCheck check;
   const double k = previous.mean_grey > 0.0 ? mean_grey / previous.mean_grey : 1.0;
   double diff_sq = 0.0;
-  double sum = 0.0;
-  double sum_sq = 0.0;
-  double sum_right = 0.0;  // sum of g(r,c) g(r,c+1)
-  double sum_down = 0.0;   // sum of g(r,c) g(r+1,c)
+  // Sums of products of whole grey levels in integers: exact, as in double.
+  std::int64_t sum_i = 0;
+  std::int64_t sum_sq_i = 0;
+  std::int64_t sum_right_i = 0;  // sum of g(r,c) g(r,c+1)
+  std::int64_t sum_down_i = 0;   // sum of g(r,c) g(r+1,c)
   std::int64_t n = 0;
   for (int r = 0; r + 1 < gray.rows; r += 2) {
     const auto* g1 = gray.ptr<std::uint8_t>(r);
     const auto* below = gray.ptr<std::uint8_t>(r + 1);
     const auto* g0 = previous.gray.ptr<std::uint8_t>(r);
     for (int c = 0; c + 1 < gray.cols; c += 2) {
-      const double a = g1[c];
-      const double d = a - k * g0[c];
+      const double d = g1[c] - k * g0[c];
       diff_sq += d * d;
-      sum += a;
-      sum_sq += a * a;
-      sum_right += a * g1[c + 1];
-      sum_down += a * below[c];
       ++n;
+    }
+    for (int c = 0; c + 1 < gray.cols; c += 2) {
+      const std::int64_t a = g1[c];
+      sum_i += a;
+      sum_sq_i += a * a;
+      sum_right_i += a * g1[c + 1];
+      sum_down_i += a * below[c];
     }
   }
   const double nn = static_cast<double>(n);
+  const auto sum = static_cast<double>(sum_i);
+  const auto sum_sq = static_cast<double>(sum_sq_i);
+  const auto sum_right = static_cast<double>(sum_right_i);
+  const auto sum_down = static_cast<double>(sum_down_i);
   const double mean = sum / nn;
   const double var = sum_sq / nn - mean * mean;
   if (var <= 0.0) return check;
