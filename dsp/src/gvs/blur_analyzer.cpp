@@ -50,9 +50,10 @@ BlurAnalyzer::BlurAnalyzer(cv::Size size)
       double_band_.at<float>(r, c) = r_bin <= 2 ? 0.0f : static_cast<float>(w);
     }
   }
-  power_ = cv::Mat::zeros(size, CV_32FC2);  // the columns past cols/2 stay 0, never read
+  // Columns past cols/2 are never read (DftPlan); the cepstrum writes its
+  // surface over the whole buffer (streak_length_cepstral).
+  power_ = cv::Mat::zeros(size, CV_32FC2);
   surface_.create(size, CV_32F);
-  cepstrum_.create(size, CV_32F);
   row_max_.assign(static_cast<std::size_t>(size.height), 0.0);
   // The noise floor's bins (noise_floor): in each row one run of columns
   // around k_col = +-pi (|k_col| rises to pi at the middle column).

@@ -64,13 +64,17 @@ StreakLength BlurAnalyzer::streak_length_cepstral(const cv::Mat& spectrum, const
       p[c] = cv::Vec2f(static_cast<float>(weight * (static_cast<double>(p[c][0]) - mean)), 0.0f);
     }
   }
-  inverse_dft_.run(power_, cepstrum_);
+  // Into power_'s own memory (the inverse reads its input into FFTW's
+  // buffer first), so the autocorrelation in surface_ stays for
+  // streak_length_again().
+  cv::Mat cepstrum(power_.size(), CV_32F, power_.data);
+  inverse_dft_.run(power_, cepstrum);
 
   // The deepest point along the ray t u, t in [min, max], in half pixels.
   double best = 0.0;
   double best_t = 0.0;
   for (double t = min_px; t <= max_px; t += 0.5) {
-    const double v = detail::sample_lag(cepstrum_, t * axis.u_row, t * axis.u_col);
+    const double v = detail::sample_lag(cepstrum, t * axis.u_row, t * axis.u_col);
     if (v < best) {
       best = v;
       best_t = t;
@@ -84,7 +88,7 @@ StreakLength BlurAnalyzer::streak_length_cepstral(const cv::Mat& spectrum, const
   std::size_t n = 0;
   for (double t = std::max(12.0, min_px); t <= max_px && n < ray_.size(); t += 0.5) {
     if (std::abs(t - best_t) < 6.0) continue;
-    ray_[n++] = std::abs(detail::sample_lag(cepstrum_, t * axis.u_row, t * axis.u_col));
+    ray_[n++] = std::abs(detail::sample_lag(cepstrum, t * axis.u_row, t * axis.u_col));
   }
   const double spread = detail::median_spread(ray_, n);
   // Integer minimum in the 5x5 around it, then a quadratic fit (as
@@ -96,18 +100,18 @@ StreakLength BlurAnalyzer::streak_length_cepstral(const cv::Mat& spectrum, const
   int bc = c0;
   for (int i = -2; i <= 2; ++i) {
     for (int j = -2; j <= 2; ++j) {
-      if (detail::at_lag(cepstrum_, r0 + i, c0 + j) < detail::at_lag(cepstrum_, br, bc)) {
+      if (detail::at_lag(cepstrum, r0 + i, c0 + j) < detail::at_lag(cepstrum, br, bc)) {
         br = r0 + i;
         bc = c0 + j;
       }
     }
   }
-  const detail::SubPixel p = detail::fit_extremum_3x3(cepstrum_, br, bc);
+  const detail::SubPixel p = detail::fit_extremum_3x3(cepstrum, br, bc);
   out.found = true;
   out.d_row_px = p.d_row;
   out.d_col_px = p.d_col;
   out.length_px = std::hypot(p.d_row, p.d_col);
-  out.significance = spread > 0.0 ? -detail::at_lag(cepstrum_, br, bc) / spread : 0.0;
+  out.significance = spread > 0.0 ? -detail::at_lag(cepstrum, br, bc) / spread : 0.0;
   return out;
 }
 

@@ -183,10 +183,11 @@ class BlurAnalyzer {
   cv::Mat band_;     ///< CV_32F band-pass weight per bin
   cv::Mat streak_band_;  ///< band_ times a high-pass (streak_length)
   cv::Mat double_band_;  ///< band_ without the column pattern's rows (double_image)
-  cv::Mat power_;    ///< CV_32FC2 weighted power spectrum (imaginary part 0); columns 0 .. cols/2 only
+  /// CV_32FC2 weighted power spectrum (imaginary part 0), columns 0 .. cols/2
+  /// only; streak_length_cepstral() writes its surface over it afterwards.
+  cv::Mat power_;
   cv::Mat surface_;  ///< CV_32F autocorrelation
   StreakAxis surface_axis_;  ///< the axis streak_length() last weighted surface_ for
-  cv::Mat cepstrum_;  ///< CV_32F power cepstrum (streak_length_cepstral)
   std::vector<double> row_max_;  ///< double_image(): per row lag, its highest value in the search
   WindowOverlap overlap_;  ///< of the window the spectra were taken with (spectrum.hpp)
   DftPlan inverse_dft_;  ///< planned for `size` at construction
