@@ -196,7 +196,7 @@ TEST(PhotographedGroundGrain, AFaintStreakWithoutARecentSpeedCountsWhereTheCepst
   // tracked gates the speed is no longer recent, and the cold gates
   // (significance 6) refuse the true ends. The power cepstrum, looking
   // beyond the window, stands witness for them (find_streak_end): seeds
-  // 1-4 give a speed on 87-93 % of these frames (with the tracked ends it
+  // 1-4 give a speed on 88-96 % of these frames (with the tracked ends it
   // witnesses too; the cold gates alone, seed 1: 29 %).
   const RunScore s = ph_ramp_to_14_kmh(1.5, 0.0, "ph_asphalt_04 1.5-4 m/s 3 ms");
   const BandScore& b = s.bands[1];  // 5-15 km/h
@@ -213,8 +213,8 @@ TEST(PhotographedGroundGrain, ATrackedEndUnderTheGatesCountsWhereTheCepstrumStan
   // significance 2.5-3.5 on many frames, under the tracked gates, where
   // the power cepstrum finds the same end standing out (find_streak_end,
   // corroborated). Each end refused lets the speed grow old and the next
-  // frames fall to the cold gates. Seeds 1-4: a speed on 91-93 % of the
-  // frames after 0.5 s (the tracked gates alone: 58-73 %).
+  // frames fall to the cold gates. Seeds 1-4: a speed on 92.5-95.0 % of
+  // the frames after 0.5 s (the tracked gates alone: 58-73 %).
   const RunScore s = ph_ramp_to_14_kmh(2.5, 0.5, "ph_asphalt_04 4 m/s 3 ms, tracked");
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 100);
