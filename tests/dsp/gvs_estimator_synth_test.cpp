@@ -409,7 +409,10 @@ const cv::Mat& grained_texture() {
 TEST(GvsEstimator, SlowOnGrainedGroundAfterFastFramesGoesBackToThePair) {
   // After frames too fast for a pair (single-frame mode, no speed), the car
   // crawls at 0.49 m/s with 3 ms: 15 px streaks, too short for a speed, and
-  // frames 83 px apart that overlap. The pair must take over again.
+  // frames 83 px apart that overlap. The pair must take over again. The
+  // crawl starts 83 ms after the fast frames, beyond speed_memory_s: within
+  // it their speed floor (too long: at least 17.9 m/s) would say the frames
+  // cannot overlap, and braking to a crawl takes a car most of a second.
   SynthRun fast;
   fast.ground = &grained_texture();
   fast.v_mps = {16.7, 0.0};
@@ -421,7 +424,7 @@ TEST(GvsEstimator, SlowOnGrainedGroundAfterFastFramesGoesBackToThePair) {
   slow.v_mps = {0.45, 0.2};
   slow.exposure.exposure_us = 3000.0;
   int pairs = 0;
-  for (int i = 2; i < 14; ++i) {
+  for (int i = 6; i < 18; ++i) {
     const VelocityEstimate e = est->estimate(slow.frame(i, img));
     if (e.method != Method::pair) continue;
     ++pairs;

@@ -198,6 +198,40 @@ TEST(GvsTracking, AVelocityFollowsThePreviousFramesWithinWhatTheCarCanChange) {
   EXPECT_TRUE(at(0.8, 0.0));
 }
 
+TEST(GvsTracking, ATooLongStreakKeepsThePairOffWhileTheCarCannotHaveSlowedIntoIt) {
+  const GvsEstimatorSettings set;
+  const CameraGeometry cam;  // 0.1 mm/px
+  const double dt_s = 1.0 / 60.0;
+  // The pair's longest shift, 200 px of 0.1 mm in 16.7 ms: 1.2 m/s.
+  const double pair_max_mps = set.pair_max_shift_px * cam.mm_per_px * 1e-3 / dt_s;
+  ASSERT_NEAR(pair_max_mps, 1.2, 1e-9);
+  MotionMemory m;
+  const std::int64_t t0 = 1000 * kMs;
+  EXPECT_EQ(speed_floor_now_mps(m, t0, set), 0.0);  // no floor: nothing known
+  EXPECT_TRUE(pair_can_overlap(m, t0, dt_s, cam, set));
+
+  // A 3 ms frame whose streak outgrew the frame: at least 2.7 m/s (half of 161 px in 3 ms).
+  SingleFrameNote too_long;
+  too_long.too_long = true;
+  too_long.speed_floor_mps = 2.7;
+  note_single(m, too_long, t0);
+  const auto frame_ns = static_cast<std::int64_t>(dt_s * 1e9);
+  // One frame on, braking at max_accel_mps2 (20 m/s^2) takes off 0.33 m/s.
+  EXPECT_NEAR(speed_floor_now_mps(m, t0 + frame_ns, set), 2.7 - set.max_accel_mps2 * dt_s, 1e-6);
+  EXPECT_FALSE(pair_can_overlap(m, t0 + frame_ns, dt_s, cam, set));
+  // Older than speed_memory_s the floor says nothing.
+  const auto memory_ns = static_cast<std::int64_t>(set.speed_memory_s * 1e9);
+  EXPECT_EQ(speed_floor_now_mps(m, t0 + memory_ns + kMs, set), 0.0);
+  EXPECT_TRUE(pair_can_overlap(m, t0 + memory_ns + kMs, dt_s, cam, set));
+
+  // A floor the car can have braked below the pair's reach since: the pair is tried.
+  too_long.speed_floor_mps = 1.4;  // 1.4 - 0.33 = 1.07 m/s <= 1.2
+  note_single(m, too_long, t0);
+  EXPECT_TRUE(pair_can_overlap(m, t0 + frame_ns, dt_s, cam, set));
+  // Frames further apart reach further: 1.07 m/s against 0.6 m/s at 30 fps.
+  EXPECT_FALSE(pair_can_overlap(m, t0 + frame_ns, 2.0 * dt_s, cam, set));
+}
+
 TEST(GvsTracking, PairAndSingleFrameNotes) {
   MotionMemory m;
   note_pair(m, true, {1.5, -0.2});

@@ -62,6 +62,18 @@ bool speed_is_recent(const MotionMemory& m, std::int64_t t_mid_ns, const GvsEsti
          static_cast<double>(t_mid_ns - m.speed_t_ns) * 1e-9 <= set.speed_memory_s;
 }
 
+double speed_floor_now_mps(const MotionMemory& m, std::int64_t t_mid_ns, const GvsEstimatorSettings& set) {
+  const double age_s = static_cast<double>(t_mid_ns - m.speed_floor_t_ns) * 1e-9;
+  if (!m.has_speed_floor || age_s < 0.0 || age_s > set.speed_memory_s) return 0.0;
+  return std::max(0.0, m.speed_floor_mps - set.max_accel_mps2 * age_s);
+}
+
+bool pair_can_overlap(const MotionMemory& m, std::int64_t t_mid_ns, double dt_s, const CameraGeometry& cam,
+                      const GvsEstimatorSettings& set) {
+  const double pair_max_mps = set.pair_max_shift_px * cam.mm_per_px * 1e-3 / dt_s;
+  return speed_floor_now_mps(m, t_mid_ns, set) <= pair_max_mps;
+}
+
 bool follows_last_velocity(const MotionMemory& m, const VelocityEstimate& e, std::int64_t index, double dt_s,
                            const GvsEstimatorSettings& set) {
   const VelocityEstimate& last = m.last;

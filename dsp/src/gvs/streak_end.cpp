@@ -44,11 +44,8 @@ StreakSearch streak_search(const MotionMemory& m, std::int64_t index, std::int64
   // ... and not shorter than a recent too-long streak allows (less what
   // max_accel_mps2 can take off since): seen in `sine` seed 4, a texture
   // "streak end" at 44 px (1.5 m/s) between 500 px streaks (16.7 m/s).
-  const double floor_age_s = static_cast<double>(t_mid_ns - m.speed_floor_t_ns) * 1e-9;
-  if (m.has_speed_floor && floor_age_s >= 0.0 && floor_age_s <= set.speed_memory_s) {
-    const double v_floor = m.speed_floor_mps - set.max_accel_mps2 * floor_age_s;
-    s.lo_px = std::max(s.lo_px, v_floor * t_s / m_per_px - 2.0);
-  }
+  const double v_floor = speed_floor_now_mps(m, t_mid_ns, set);
+  if (v_floor > 0.0) s.lo_px = std::max(s.lo_px, v_floor * t_s / m_per_px - 2.0);
   // An older speed still bounds the streak: where every length it allows
   // lies within the cepstrum's reach, the streak cannot have outgrown it.
   if (m.has_speed && age >= 1 && age_s <= set.reacquire_memory_s && longest_px <= cepstrum_max_px) {

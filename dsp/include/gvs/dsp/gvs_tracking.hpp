@@ -115,6 +115,17 @@ SignChoice choose_sign(const MotionMemory& m, Vec2 axis_vehicle, std::int64_t t_
 /// A speed was measured within speed_memory_s before t_mid_ns (VelocityEstimate::tracking).
 bool speed_is_recent(const MotionMemory& m, std::int64_t t_mid_ns, const GvsEstimatorSettings& set);
 
+/// The least speed the car can have at t_mid_ns from a recent too-long
+/// streak (its speed floor, within speed_memory_s), less what
+/// max_accel_mps2 can take off since: v >= v_floor - a_max * age. 0 without one.
+double speed_floor_now_mps(const MotionMemory& m, std::int64_t t_mid_ns, const GvsEstimatorSettings& set);
+
+/// Two frames dt_s apart can overlap for the pair: the speed floor now
+/// (speed_floor_now_mps) is within the pair's longest shift,
+/// pair_max_shift_px in dt_s. False: the pair cannot match, do not try it.
+bool pair_can_overlap(const MotionMemory& m, std::int64_t t_mid_ns, double dt_s, const CameraGeometry& cam,
+                      const GvsEstimatorSettings& set);
+
 /// `e`, of frame `index` dt_s after the previous one, is a velocity the car
 /// can have reached from the previous frame's (within speed_window_fraction
 /// of its speed plus max_accel_mps2 dt_s, as vectors); true when the
