@@ -1,7 +1,9 @@
 #include "gvs_bench_frames.hpp"
 
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -12,10 +14,20 @@ namespace gvs::bench {
 
 namespace {
 
+std::string photo_path(const char* file) {
+  const char* env = std::getenv("GVS_SHARED_DIR");
+  const std::string path = std::string(env != nullptr ? env : GVS_BENCH_SHARED_DIR) + "/testdata/real-asphalt/" + file;
+  if (!std::filesystem::exists(path)) {
+    throw std::runtime_error(path + " not found: set GVS_SHARED_DIR to the shared/ folder");
+  }
+  return path;
+}
+
 std::vector<dsp::FrameView> render(const FrameKind& kind, bool lasers) {
   drivers::SimulatorConfig cfg;
   cfg.seconds = 1.5;
   cfg.light = kind.light;
+  if (kind.photo != nullptr) cfg.ground = "photo:" + photo_path(kind.photo);
   if (lasers) cfg.lasers = core::design_laser_geometry(cfg.camera, cfg.camera_height_mm);
   drivers::Simulator sim(cfg, drivers::sim::constant_motion_scenario(kind.vx_mps, kind.vy_mps, 0.0, 1.5));
   dsp::EstimatorConfig ec;

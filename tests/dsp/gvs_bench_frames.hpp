@@ -20,6 +20,9 @@ struct FrameKind {
   double vy_mps;
   dsp::ExposureMode mode;  ///< fixed: 3 ms continuous light
   drivers::LightLevel light = drivers::LightLevel::normal;
+  /// A photograph of ../shared/testdata/real-asphalt for the ground (its
+  /// file name), or null for the procedural asphalt.
+  const char* photo = nullptr;
 };
 
 // sharp pair: 1.8 km/h, consecutive frames overlap (pair correlation);
@@ -27,20 +30,26 @@ struct FrameKind {
 // strobed: 108 km/h, one strobe keeping the streak 10-80 px;
 // double pulse: 108 km/h, two short pulses;
 // dark: blurred, under-exposed (the spectrum with the pixel pattern out and
-// the ring gain's passes, docs/estimator.md "Dark frames").
+// the ring gain's passes, docs/estimator.md "Dark frames");
+// blurred photo: as blurred, on the photograph ph_asphalt_04 (its streak
+// ends and spectra take the longer paths: docs/performance.md).
 inline constexpr FrameKind kKinds[] = {
     {"sharp_pair", 0.5, 0.02, dsp::ExposureMode::fixed},
     {"blurred", 15.0, 0.8, dsp::ExposureMode::fixed},
     {"strobed", 30.0, 1.5, dsp::ExposureMode::adaptive},
     {"double_pulse", 30.0, 1.5, dsp::ExposureMode::double_pulse},
     {"dark", 15.0, 0.8, dsp::ExposureMode::fixed, drivers::LightLevel::under},
+    {"blurred_photo", 15.0, 0.8, dsp::ExposureMode::fixed, drivers::LightLevel::normal, "ph_asphalt_04_1024.png"},
 };
 
 inline constexpr int kFrames = 60;
 
 /// The last kFrames frames (512x384) of 1.5 s of the simulator at the kind's
 /// constant velocity, with the exposure the gvs closed loop chose; rendered
-/// on the first call and kept.
+/// on the first call and kept. A kind on a photograph reads it from
+/// $GVS_SHARED_DIR (default: the build's GVS_SHARED_DIR, ../shared beside
+/// the checkout) and throws std::runtime_error naming the file when it is
+/// not there.
 const std::vector<dsp::FrameView>& frames_of(const FrameKind& kind);
 /// The same with the design's three laser dots lit (gvs sim --lasers).
 const std::vector<dsp::FrameView>& laser_frames_of(const FrameKind& kind);

@@ -4,7 +4,8 @@
 //   build/<dir>/tests/dsp/gvs_estimator_bench
 //
 // Each kind is one second (60 frames, 512x384) of the simulator at a constant
-// velocity, rendered once with the exposure the gvs closed loop chose (so the
+// velocity (on the procedural asphalt, or on a photograph of real asphalt:
+// blurred_photo), rendered once with the exposure the gvs closed loop chose (so the
 // frames are what the estimator meets on the car), then fed to a fresh
 // estimator round and round with the clock running on. The label names the
 // method the estimator used on the last frame, so the path measured is shown.
@@ -17,6 +18,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -33,8 +35,21 @@ using bench::FrameKind;
 /// and masking them in a copy of the frame (the same kinds of frame, the
 /// design's three dots lit; docs/performance.md). The counter is the share
 /// of frames with a height.
+/// The kind's frames, or none after SkipWithError (a photograph not found).
+template <typename Frames>
+const std::vector<dsp::FrameView>* frames_or_skip(benchmark::State& state, Frames of, const FrameKind& kind) {
+  try {
+    return &of(kind);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return nullptr;
+  }
+}
+
 void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
-  const std::vector<dsp::FrameView>& frames = bench::laser_frames_of(kind);
+  const std::vector<dsp::FrameView>* rendered = frames_or_skip(state, bench::laser_frames_of, kind);
+  if (rendered == nullptr) return;
+  const std::vector<dsp::FrameView>& frames = *rendered;
   const core::CameraGeometry camera;
   dsp::LaserDotFinder finder(camera, 60.0, core::design_laser_geometry(camera, 60.0));
   cv::Mat masked = frames.front().gray.clone();
@@ -52,7 +67,9 @@ void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
 }
 
 void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* method) {
-  const std::vector<dsp::FrameView>& frames = bench::frames_of(kind);
+  const std::vector<dsp::FrameView>* rendered = frames_or_skip(state, bench::frames_of, kind);
+  if (rendered == nullptr) return;
+  const std::vector<dsp::FrameView>& frames = *rendered;
   dsp::EstimatorConfig cfg;
   cfg.method = method;
   const auto est = dsp::make_estimator(cfg);
