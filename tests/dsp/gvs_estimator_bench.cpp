@@ -31,10 +31,6 @@ namespace {
 using namespace gvs;
 using bench::FrameKind;
 
-/// What the laser dots add per frame in dsp::FrameProcessor: finding them
-/// and masking them in a copy of the frame (the same kinds of frame, the
-/// design's three dots lit; docs/performance.md). The counter is the share
-/// of frames with a height.
 /// The kind's frames, or none after SkipWithError (a photograph not found).
 template <typename Frames>
 const std::vector<dsp::FrameView>* frames_or_skip(benchmark::State& state, Frames of, const FrameKind& kind) {
@@ -46,6 +42,10 @@ const std::vector<dsp::FrameView>* frames_or_skip(benchmark::State& state, Frame
   }
 }
 
+/// What the laser dots add per frame in dsp::FrameProcessor: finding them
+/// and masking them in a copy of the frame (the same kinds of frame, the
+/// design's three dots lit; docs/performance.md). The counter is the share
+/// of frames with a height.
 void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
   const std::vector<dsp::FrameView>* rendered = frames_or_skip(state, bench::laser_frames_of, kind);
   if (rendered == nullptr) return;

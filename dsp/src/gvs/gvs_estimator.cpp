@@ -117,7 +117,7 @@ VelocityEstimate GvsEstimator::estimate_one_light(const FrameView& frame, std::i
   // Not where a recent too-long streak says the car is faster than the
   // pair's longest shift: on 3 ms frames of 500 px streaks whose spectrum
   // reads less elongated than "too long" between two that do, the pair
-  // matched nothing and cost ~40 % of the frame.
+  // matched nothing and cost about a third of the frame.
   if (!tried_pair && consecutive && !e.has_speed && !(elongated && single.note.too_long) &&
       pair_can_overlap(motion, t_mid, dt_s, cam_, set_)) {
     // A pair measures the mean velocity between the two frames, half a frame
