@@ -58,6 +58,9 @@ struct RunScore {
   /// Frames whose speed is off by > 5 % (truth >= 1 km/h) at a quality the
   /// bus sends as valid (can::ValidityRule's default min_quality): must be 0.
   int valid_speed_off = 0;
+  /// Frames whose direction points more than 90 deg from the truth (truth
+  /// >= 1 km/h) at a quality the bus sends as valid: must be 0.
+  int valid_direction_reversed = 0;
   double estimate_ms_total = 0.0;  ///< wall time inside estimate()
   [[nodiscard]] double yaw_rms() const { return yaw_frames ? std::sqrt(yaw_sq / yaw_frames) : 0.0; }
 };
@@ -121,6 +124,9 @@ inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, d
       ++s.with_direction;
       s.dir_sq += err * err;
       s.dir_max = std::max(s.dir_max, err);
+      if (err > 90.0 && t.speed_mps >= 1.0 / 3.6 && can::quality_passes(e.quality, can::ValidityRule{}.min_quality)) {
+        ++score.valid_direction_reversed;
+      }
     }
     if (e.has_speed) {
       const double rel = std::abs(e.speed_mps / t.speed_mps - 1.0);

@@ -406,6 +406,60 @@ TEST(SensorPattern, FineTextureEnergyIsTheMeanSquareStepOverFourPixels) {
   EXPECT_LT(SensorPattern::fine_texture_energy(ramp), 4.0);
 }
 
+TEST(GvsTracking, AReversalComesThroughASlowFrameOrIsSeenTwice) {
+  // Forwards (0 deg, sign measured) until frame 171; frames 172-174 gave
+  // nothing. At frame 175 a pair reads 0.24 m/s backwards: a tiled ground
+  // matching its repeat, or a car that braked to a stop and reversed.
+  const GvsEstimatorSettings set;
+  constexpr double kDtS = 1.0 / 60.0;
+  constexpr std::int64_t kT175Ns = 2'918'166'667;
+  MotionMemory m;
+  m.has_direction = true;
+  m.sign_known = true;
+  m.direction = {1.0, 0.0};
+  m.direction_t_ns = kT175Ns - 66'666'667;  // frame 171
+  m.last.index = 174;                        // no speed
+  const Vec2 back{-0.24, 0.0};
+  EXPECT_EQ(judge_reversal(m, back, 175, kT175Ns, kDtS, set), Reversal::held);
+  // Sideways is no reversal; neither is anything once the direction is
+  // older than continuity_max_age_s, or its sign was only assumed.
+  EXPECT_EQ(judge_reversal(m, {0.01, 0.3}, 175, kT175Ns, kDtS, set), Reversal::none);
+  EXPECT_EQ(judge_reversal(m, back, 175, m.direction_t_ns + 510'000'000, kDtS, set), Reversal::none);
+  m.sign_known = false;
+  EXPECT_EQ(judge_reversal(m, back, 175, kT175Ns, kDtS, set), Reversal::none);
+  m.sign_known = true;
+
+  // The previous frame measured 0.08 m/s forwards: the car can be at
+  // -0.24 m/s 1/60 s later (0.32 <= 0.15 x 0.08 + 20 / 60).
+  m.last_valid = true;
+  m.last.has_speed = true;
+  m.last.has_direction = true;
+  m.last.vx_mps = 0.08;
+  m.last.speed_mps = 0.08;
+  EXPECT_EQ(judge_reversal(m, back, 175, kT175Ns, kDtS, set), Reversal::from_slow);
+  // ... or stood still (a speed without a direction).
+  m.last.has_direction = false;
+  m.last.vx_mps = 0.0;
+  m.last.speed_mps = 0.0;
+  EXPECT_EQ(judge_reversal(m, back, 175, kT175Ns, kDtS, set), Reversal::from_slow);
+  // At 1.1 m/s forwards it cannot.
+  m.last.has_direction = true;
+  m.last.vx_mps = 1.1;
+  m.last.speed_mps = 1.1;
+  EXPECT_EQ(judge_reversal(m, back, 175, kT175Ns, kDtS, set), Reversal::held);
+
+  // Held at 175, the next frame's pair agrees: confirmed; one that does
+  // not, or a held one two frames back, is held again.
+  m.last_valid = false;
+  note_reversal(m, Reversal::held, back, 175);
+  EXPECT_EQ(judge_reversal(m, {-0.27, 0.02}, 176, kT175Ns + 16'666'667, kDtS, set), Reversal::confirmed);
+  EXPECT_EQ(judge_reversal(m, {-0.9, 0.0}, 176, kT175Ns + 16'666'667, kDtS, set), Reversal::held);
+  EXPECT_EQ(judge_reversal(m, {-0.27, 0.02}, 177, kT175Ns + 33'333'333, kDtS, set), Reversal::held);
+  // Anything else the pair says forgets the held one.
+  note_reversal(m, Reversal::none, {1.2, 0.0}, 176);
+  EXPECT_EQ(judge_reversal(m, {-0.27, 0.02}, 177, kT175Ns + 33'333'333, kDtS, set), Reversal::held);
+}
+
 TEST(SensorPattern, SharpGroundHardlyTeachesThePixelPattern) {
   // Frames alternate between sharp ground (20 grey levels RMS) and blurred
   // ground (2 grey levels). A plain mean of the 100 frames would keep

@@ -321,6 +321,27 @@ TEST(PhotographedGroundScale, AFineGroundUnderTheLightsFallOffIsNoStandstillAtAC
   EXPECT_GE(b.speed_coverage(), 0.9);  // the pairs measure it
 }
 
+TEST(PhotographedGroundScale, AShiftPastThePairsReachOnRepeatingGroundDoesNotReverseTheDirection) {
+  // torcs_etrack2 is a 256 px tile repeated; at 0.1 mm per photo pixel it
+  // repeats every 256 camera pixels. Pulling away, the pair matches up to
+  // 1.1 m/s (183 px per frame), then three frames match nothing; at
+  // 1.31 m/s (218 px) the repeat 38 px the other way matches: a slow car
+  // going backwards. Nothing slow came before it, so it is no reversal, and
+  // the frames after it keep the measured direction.
+  drivers::SimulatorConfig c;
+  c.scenario = "stop";
+  c.seconds = 3.4;
+  c.seed = 1;
+  c.ground = photo_ground("torcs_etrack2_asphalt_tile_1024.png") + ":0.1";
+  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
+  print_score("stop on torcs_etrack2 at 0.1 mm per photo pixel", s);
+  ASSERT_GT(s.bands[0].frames, 30);
+  ASSERT_GT(s.bands[1].frames, 20);
+  EXPECT_GT(s.bands[1].with_direction, 20);  // after the repeat's match
+  EXPECT_EQ(s.valid_direction_reversed, 0);
+  EXPECT_EQ(s.valid_speed_off, 0);
+}
+
 TEST(FaintGround, NoTextureGivesNoDirectionAtSpeed) {
   // The sensor's own pattern, its noise and the ring light's falloff are no
   // texture: a uniform ground at 130 km/h gives no direction once the pixel

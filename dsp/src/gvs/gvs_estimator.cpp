@@ -89,6 +89,7 @@ VelocityEstimate GvsEstimator::estimate_one_light(const FrameView& frame, std::i
     const PairResult r = analyse_pair(frame, t_mid, dt_s, mean_grey, track_, cam_, set_, pair_);
     outcome.halves = &pair_.current;
     note_pair(motion, r.matched, r.v_pair_mps);
+    note_reversal(motion, r.reversal, r.v_pair_mps, frame.index);
     if (r.matched) outcome.sign_known = true;
     return r.estimate;
   };

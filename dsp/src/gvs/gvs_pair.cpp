@@ -168,6 +168,9 @@ PairResult analyse_pair(const FrameView& frame, std::int64_t t_mid_ns, double dt
 
   const Vec2 v_pair = image_shift_to_velocity(s.d_row_px, s.d_col_px, dt_s, cam);
   if (!turn_is_plausible(v_pair, track.motion, t_mid_ns)) return result;
+  result.reversal = judge_reversal(track.motion, v_pair, frame.index, t_mid_ns, dt_s, set);
+  result.v_pair_mps = v_pair;
+  if (result.reversal == Reversal::held) return result;
   const Vec2 v = compensate_lag(v_pair, track.motion, frame.index, dt_s, set);
   result.matched = true;
   result.v_pair_mps = v_pair;

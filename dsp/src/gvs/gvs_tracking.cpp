@@ -83,6 +83,41 @@ bool follows_last_velocity(const MotionMemory& m, const VelocityEstimate& e, std
   return change_mps <= set.speed_window_fraction * last.speed_mps + set.max_accel_mps2 * dt_s;
 }
 
+namespace {
+
+/// |v - v0| <= speed_window_fraction |v0| + max_accel_mps2 dt: a velocity
+/// the car can reach from v0 in dt.
+bool within_reach(Vec2 v, Vec2 v0, double dt_s, const GvsEstimatorSettings& set) {
+  return std::hypot(v.x - v0.x, v.y - v0.y) <=
+         set.speed_window_fraction * std::hypot(v0.x, v0.y) + set.max_accel_mps2 * dt_s;
+}
+
+}  // namespace
+
+Reversal judge_reversal(const MotionMemory& m, Vec2 v, std::int64_t index, std::int64_t t_mid_ns, double dt_s,
+                        const GvsEstimatorSettings& set) {
+  const double age_s = static_cast<double>(t_mid_ns - m.direction_t_ns) * 1e-9;
+  if (!(m.has_direction && m.sign_known && age_s <= set.continuity_max_age_s)) return Reversal::none;
+  if (v.x * m.direction.x + v.y * m.direction.y >= 0.0) return Reversal::none;
+  // The previous frame's speed (a standstill has no direction: v0 = 0).
+  const VelocityEstimate& last = m.last;
+  if (m.last_valid && last.has_speed && last.index == index - 1) {
+    const Vec2 v0 = last.has_direction ? Vec2{last.vx_mps, last.vy_mps} : Vec2{0.0, 0.0};
+    if (within_reach(v, v0, dt_s, set)) return Reversal::from_slow;
+  }
+  if (m.has_held_reversal && m.held_reversal_index == index - 1 &&
+      within_reach(v, m.held_reversal_v_mps, dt_s, set)) {
+    return Reversal::confirmed;
+  }
+  return Reversal::held;
+}
+
+void note_reversal(MotionMemory& m, Reversal r, Vec2 v_pair_mps, std::int64_t index) {
+  m.has_held_reversal = r == Reversal::held;
+  m.held_reversal_v_mps = v_pair_mps;
+  m.held_reversal_index = index;
+}
+
 void note_pair(MotionMemory& m, bool matched, Vec2 v_pair_mps) {
   m.has_pair_v = matched;
   if (matched) m.pair_v_mps = v_pair_mps;
@@ -145,6 +180,7 @@ void forget_tracking(TrackingState& t) {
   m.has_speed = false;
   m.has_speed_floor = false;
   m.has_pair_v = false;
+  m.has_held_reversal = false;
   m.mode = MotionMemory::Mode::pair;
   m.last_single_dark = false;
   t.pattern.forget();

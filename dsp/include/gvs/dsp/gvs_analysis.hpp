@@ -59,8 +59,11 @@ struct PairResult {
   /// plausible: the sign is known, and v_pair_mps is the next pair's slope
   /// (note_pair).
   bool matched = false;
-  /// Mean velocity between the two frames' light centres, before the lag compensation.
+  /// Mean velocity between the two frames' light centres, before the lag
+  /// compensation (also of a held reversal).
   Vec2 v_pair_mps{};
+  /// Against the measured direction? A held one is no match (judge_reversal).
+  Reversal reversal = Reversal::none;
 };
 
 /// Phase correlation of the two half windows of `frame` with those of the

@@ -75,6 +75,12 @@ struct MotionMemory {
   /// Spectrum anisotropy of the last single-frame analysis that measured an
   /// axis (forget_tracking() keeps it).
   double last_axis_anisotropy = 1.0;
+
+  /// A pair that reversed the measured direction with no slow frame before
+  /// it (judge_reversal): held back until the next frame's pair agrees.
+  bool has_held_reversal = false;
+  Vec2 held_reversal_v_mps{};
+  std::int64_t held_reversal_index = 0;
 };
 
 /// Everything the estimator carries between frames.
@@ -135,6 +141,31 @@ bool follows_last_velocity(const MotionMemory& m, const VelocityEstimate& e, std
 
 /// After a pair attempt: its raw velocity is the next pair's slope if it matched.
 void note_pair(MotionMemory& m, bool matched, Vec2 v_pair_mps);
+
+/// What judge_reversal says of a pair velocity.
+enum class Reversal {
+  none,       ///< not against a measured direction (or no recent one)
+  from_slow,  ///< against it, but the previous frame measured a speed the car can reverse from in dt
+  confirmed,  ///< against it, and the previous frame's held reversal agrees
+  held,       ///< against it with nothing to say the car came through standstill: not a measurement yet
+};
+
+/// A velocity reverses through standstill. A pair velocity `v_pair_mps` of
+/// frame `index` (t_mid_ns, dt_s after the previous frame) pointing more
+/// than 90 deg from the last direction whose sign was measured (within
+/// continuity_max_age_s) is taken when the previous frame measured a speed
+/// it follows (follows_last_velocity's bound: a slow car), or when the
+/// previous frame's held reversal agrees (within the same bound); else it is
+/// held. On ground that repeats (a tiled photograph, grooved concrete) a
+/// shift past pair_max_shift_px matches the repeat and reads as a slow car
+/// going the other way; frames without a speed between the last one and it
+/// leave the acceleration bound too wide to refuse it.
+Reversal judge_reversal(const MotionMemory& m, Vec2 v_pair_mps, std::int64_t index, std::int64_t t_mid_ns,
+                        double dt_s, const GvsEstimatorSettings& set);
+
+/// After a pair attempt of frame `index`: a held reversal is kept for the
+/// next frame's judge_reversal, anything else forgets it.
+void note_reversal(MotionMemory& m, Reversal r, Vec2 v_pair_mps, std::int64_t index);
 
 /// What a single-frame analysis tells the frames after it.
 struct SingleFrameNote {
