@@ -208,7 +208,13 @@ StreakEnd find_streak_end(const cv::Mat& gray, const StreakAxis& axis, bool axis
   const bool lit_faint = well_lit && axis.texture_snr >= set.min_speed_texture_snr_lit;
   end.shorter_than_search = len.found && len.depth >= set.min_streak_depth &&
                             len.significance >= search.min_significance && len.length_px <= search.lo_px + 0.5;
-  end.clear = consistent && accepted && (!faint || (lit_faint && vouched()));
+  // Without a recent speed the witness must also stand out as `witnessed`
+  // asks: both readings can find the same trough of the grain
+  // (torcs_wheel1 `skidpad` at 43 km/h: a 360 px streak's frame, faint,
+  // read 164 px at significance 6.0, the cepstrum at 163.5 px standing
+  // out 1.2 where a true end's stands out 3.5 or more).
+  const bool witness_stands_out = !cold || cepstrum_significance >= set.min_streak_significance;
+  end.clear = consistent && accepted && (!faint || (lit_faint && vouched() && witness_stands_out));
   const bool beyond_dark_max = pattern_out && len.length_px > set.dark_max_streak_px;
   end.has_speed = end.clear && !end.ambiguous && len.length_px >= search.min_length_px &&
                   !(beyond_dark_max && !(well_lit && vouched()));
