@@ -452,8 +452,9 @@ TEST(GvsTracking, AReversalComesThroughASlowFrameOrIsSeenTwice) {
   // not, or a held one two frames back, is held again.
   m.last_valid = false;
   note_reversal(m, Reversal::held, back, 175);
-  EXPECT_EQ(judge_reversal(m, {-0.27, 0.02}, 176, kT175Ns + 16'666'667, kDtS, set), Reversal::confirmed);
-  EXPECT_EQ(judge_reversal(m, {-0.9, 0.0}, 176, kT175Ns + 16'666'667, kDtS, set), Reversal::held);
+  constexpr std::int64_t kT176Ns = kT175Ns + 16'666'667;
+  EXPECT_EQ(judge_reversal(m, {-0.27, 0.02}, 176, kT176Ns, kDtS, set), Reversal::confirmed);
+  EXPECT_EQ(judge_reversal(m, {-0.9, 0.0}, 176, kT176Ns, kDtS, set), Reversal::held);
   EXPECT_EQ(judge_reversal(m, {-0.27, 0.02}, 177, kT175Ns + 33'333'333, kDtS, set), Reversal::held);
   // Anything else the pair says forgets the held one.
   note_reversal(m, Reversal::none, {1.2, 0.0}, 176);
