@@ -112,15 +112,16 @@ TEST_P(PhotographedGround, FixedExposureAt5To15KmhMeasuresTheStreaksOfWellLitFra
   EXPECT_EQ(s.valid_speed_off, 0);
 }
 
-/// `scenario`'s first `seconds` on `photo`, seed `seed`, in `mode`, scored
-/// (and printed under `title`) against the truth.
+/// `scenario`'s first `seconds` on `photo` (at `scale`, e.g. ":0.1" mm per
+/// photo pixel; empty: the default), seed `seed`, in `mode`, scored (and
+/// printed under `title`) against the truth.
 RunScore grain_run(const char* photo, const char* scenario, double seconds, std::uint64_t seed,
-                   dsp::ExposureMode mode, const char* title) {
+                   dsp::ExposureMode mode, const char* title, const char* scale = "") {
   drivers::SimulatorConfig c;
   c.scenario = scenario;
   c.seconds = seconds;
   c.seed = seed;
-  c.ground = photo_ground(photo);
+  c.ground = photo_ground(photo) + scale;
   RunScore s = run_and_score(c, mode);
   print_score(title, s);
   return s;
@@ -328,13 +329,8 @@ TEST(PhotographedGroundScale, AShiftPastThePairsReachOnRepeatingGroundDoesNotRev
   // 1.31 m/s (218 px) the repeat 38 px the other way matches: a slow car
   // going backwards. Nothing slow came before it, so it is no reversal, and
   // the frames after it keep the measured direction.
-  drivers::SimulatorConfig c;
-  c.scenario = "stop";
-  c.seconds = 3.4;
-  c.seed = 1;
-  c.ground = photo_ground("torcs_etrack2_asphalt_tile_1024.png") + ":0.1";
-  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
-  print_score("stop on torcs_etrack2 at 0.1 mm per photo pixel", s);
+  const RunScore s = grain_run("torcs_etrack2_asphalt_tile_1024.png", "stop", 3.4, 1, dsp::ExposureMode::fixed,
+                               "stop on torcs_etrack2 at 0.1 mm per photo pixel", ":0.1");
   ASSERT_GT(s.bands[0].frames, 30);
   ASSERT_GT(s.bands[1].frames, 20);
   EXPECT_GT(s.bands[1].with_direction, 20);  // after the repeat's match
@@ -344,17 +340,12 @@ TEST(PhotographedGroundScale, AShiftPastThePairsReachOnRepeatingGroundDoesNotRev
 
 TEST(PhotographedGroundGrain, AFaintEndWithoutARecentSpeedNeedsACepstrumThatStandsOut) {
   // skidpad on torcs_wheel1, seed 1: 43 km/h with 3 ms, 360 px streaks,
-  // too long on every frame but frame 281, where the faint frame's deepest
-  // end (164 px, significance 6.0) and the power cepstrum's (163.5 px,
-  // standing out 1.2) found the same trough of the grain: 20 km/h at
-  // quality 0.45, valid on the bus.
-  drivers::SimulatorConfig c;
-  c.scenario = "skidpad";
-  c.seconds = 4.75;
-  c.seed = 1;
-  c.ground = photo_ground("torcs_wheel1_asphalt2_1024.png");
-  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
-  print_score("skidpad on torcs_wheel1", s);
+  // too long on every frame. On frame 281 the faint frame's deepest end
+  // (164 px, significance 6.0) and the power cepstrum's (163.5 px, standing
+  // out 1.2) lie at the same trough of the grain: taken, it reads 20 km/h
+  // at quality 0.45, valid on the bus.
+  const RunScore s = grain_run("torcs_wheel1_asphalt2_1024.png", "skidpad", 4.75, 1, dsp::ExposureMode::fixed,
+                               "skidpad on torcs_wheel1");
   const BandScore& b = s.bands[2];  // 15-60 km/h
   ASSERT_GT(b.frames, 250);
   EXPECT_GE(b.dir_coverage(), 0.99);
@@ -363,17 +354,12 @@ TEST(PhotographedGroundGrain, AFaintEndWithoutARecentSpeedNeedsACepstrumThatStan
 
 TEST(PhotographedGroundScale, ACepstrumThatDoesNotStandOutChoosesNoRivalEnd) {
   // acg_Asphalt025C at 0.1 mm per photo pixel, `const` seed 1: stepping
-  // from 20 to 24 km/h, frame 304's 188 px streak had two ends as deep,
-  // the deeper at 168 px, and the power cepstrum put its end 1.5 % from it
-  // but stood out only 1.5: the same trough of the grain, 11 % slow at
-  // quality 0.45.
-  drivers::SimulatorConfig c;
-  c.scenario = "const";
-  c.seconds = 5.1;
-  c.seed = 1;
-  c.ground = photo_ground("acg_Asphalt025C_1024.png") + ":0.1";
-  const RunScore s = run_and_score(c, dsp::ExposureMode::fixed);
-  print_score("const on acg_Asphalt025C at 0.1 mm per photo pixel", s);
+  // from 20 to 24 km/h, frame 304's 188 px streak has two ends as deep,
+  // the deeper at 168 px, and the power cepstrum puts its end 1.5 % from it
+  // but stands out only 1.5: the same trough of the grain, which would read
+  // 11 % slow at quality 0.45.
+  const RunScore s = grain_run("acg_Asphalt025C_1024.png", "const", 5.1, 1, dsp::ExposureMode::fixed,
+                               "const on acg_Asphalt025C at 0.1 mm per photo pixel", ":0.1");
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 100);
   EXPECT_GE(b.speed_coverage(), 0.9);

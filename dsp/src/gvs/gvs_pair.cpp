@@ -173,7 +173,6 @@ PairResult analyse_pair(const FrameView& frame, std::int64_t t_mid_ns, double dt
   if (result.reversal == Reversal::held) return result;
   const Vec2 v = compensate_lag(v_pair, track.motion, frame.index, dt_s, set);
   result.matched = true;
-  result.v_pair_mps = v_pair;
 
   e.method = Method::pair;
   e.has_yaw_rate = s.has_yaw_rate;

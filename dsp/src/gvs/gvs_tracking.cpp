@@ -74,25 +74,23 @@ bool pair_can_overlap(const MotionMemory& m, std::int64_t t_mid_ns, double dt_s,
   return speed_floor_now_mps(m, t_mid_ns, set) <= pair_max_mps;
 }
 
+namespace {
+
+/// |v - v0| <= speed_window_fraction |v0| + max_accel_mps2 dt: a velocity
+/// the car can reach from v0 (speed speed0_mps) in dt.
+bool within_reach(Vec2 v, Vec2 v0, double speed0_mps, double dt_s, const GvsEstimatorSettings& set) {
+  return std::hypot(v.x - v0.x, v.y - v0.y) <= set.speed_window_fraction * speed0_mps + set.max_accel_mps2 * dt_s;
+}
+
+}  // namespace
+
 bool follows_last_velocity(const MotionMemory& m, const VelocityEstimate& e, std::int64_t index, double dt_s,
                            const GvsEstimatorSettings& set) {
   const VelocityEstimate& last = m.last;
   if (!(m.last_valid && last.has_speed && last.has_direction && last.index == index - 1)) return true;
   if (!(e.has_speed && e.has_direction)) return true;
-  const double change_mps = std::hypot(e.vx_mps - last.vx_mps, e.vy_mps - last.vy_mps);
-  return change_mps <= set.speed_window_fraction * last.speed_mps + set.max_accel_mps2 * dt_s;
+  return within_reach({e.vx_mps, e.vy_mps}, {last.vx_mps, last.vy_mps}, last.speed_mps, dt_s, set);
 }
-
-namespace {
-
-/// |v - v0| <= speed_window_fraction |v0| + max_accel_mps2 dt: a velocity
-/// the car can reach from v0 in dt.
-bool within_reach(Vec2 v, Vec2 v0, double dt_s, const GvsEstimatorSettings& set) {
-  return std::hypot(v.x - v0.x, v.y - v0.y) <=
-         set.speed_window_fraction * std::hypot(v0.x, v0.y) + set.max_accel_mps2 * dt_s;
-}
-
-}  // namespace
 
 Reversal judge_reversal(const MotionMemory& m, Vec2 v, std::int64_t index, std::int64_t t_mid_ns, double dt_s,
                         const GvsEstimatorSettings& set) {
@@ -103,10 +101,11 @@ Reversal judge_reversal(const MotionMemory& m, Vec2 v, std::int64_t index, std::
   const VelocityEstimate& last = m.last;
   if (m.last_valid && last.has_speed && last.index == index - 1) {
     const Vec2 v0 = last.has_direction ? Vec2{last.vx_mps, last.vy_mps} : Vec2{0.0, 0.0};
-    if (within_reach(v, v0, dt_s, set)) return Reversal::from_slow;
+    if (within_reach(v, v0, std::hypot(v0.x, v0.y), dt_s, set)) return Reversal::from_slow;
   }
+  const Vec2 held = m.held_reversal_v_mps;
   if (m.has_held_reversal && m.held_reversal_index == index - 1 &&
-      within_reach(v, m.held_reversal_v_mps, dt_s, set)) {
+      within_reach(v, held, std::hypot(held.x, held.y), dt_s, set)) {
     return Reversal::confirmed;
   }
   return Reversal::held;
