@@ -1,10 +1,12 @@
 #include "gvs/daemon/rt.hpp"
 
+#include <link.h>
 #include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -40,10 +42,30 @@ ThreadRtReport setup_this_thread(const ThreadConfig& config, int prefault_stack_
   return r;
 }
 
+namespace {
+
+/// dl_iterate_phdr visits the program itself first: mlock (without
+/// MLOCK_ONFAULT) makes each of its loaded segments resident and locked now.
+int lock_first_object(dl_phdr_info* info, std::size_t /*size*/, void* result) noexcept {
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  for (ElfW(Half) i = 0; i < info->dlpi_phnum; ++i) {
+    const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+    if (ph.p_type != PT_LOAD) continue;
+    const std::uintptr_t begin = (info->dlpi_addr + ph.p_vaddr) & ~(page - 1);
+    const std::uintptr_t end = info->dlpi_addr + ph.p_vaddr + ph.p_memsz;
+    if (mlock(reinterpret_cast<const void*>(begin), end - begin) != 0) *static_cast<int*>(result) = errno;
+  }
+  return 1;  // the program only, not the libraries
+}
+
+}  // namespace
+
 int lock_all_memory(bool on_fault) noexcept {
   const int flags = MCL_CURRENT | MCL_FUTURE | (on_fault ? MCL_ONFAULT : 0);
   if (mlockall(flags) != 0) return errno;
-  return 0;
+  int program_errno = 0;
+  if (on_fault) (void)dl_iterate_phdr(lock_first_object, &program_errno);
+  return program_errno;
 }
 
 std::uint64_t thread_page_faults() noexcept {

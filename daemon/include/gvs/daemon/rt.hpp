@@ -29,7 +29,10 @@ void prefault_stack(std::size_t bytes) noexcept;
 
 /// mlockall(MCL_CURRENT | MCL_FUTURE), with MCL_ONFAULT when `on_fault`
 /// (pages are locked as they are first touched, so mapped code and buffers
-/// never touched take no RAM); returns 0 or errno.
+/// never touched take no RAM); returns 0 or errno. With `on_fault`, gvsd's
+/// own code and static data (about 1.6 MB) are still made resident whole:
+/// a path first run under load (a late wake-up, a skipped frame) would
+/// otherwise fault on a real-time thread.
 int lock_all_memory(bool on_fault) noexcept;
 
 /// Page faults (minor + major) of the calling thread so far
