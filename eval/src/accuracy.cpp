@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gvs/can/codec.hpp"
 #include "gvs/core/geometry.hpp"
 
 namespace gvs::eval {
@@ -65,6 +66,8 @@ ErrorStats error_stats(const std::vector<double>& errors) {
   s.std = errors.size() > 1 ? std::sqrt(var / (n - 1.0)) : 0.0;
   return s;
 }
+
+const double kBusMinQuality = can::ValidityRule{}.min_quality;
 
 const std::vector<std::pair<double, double>>& speed_bands_kmh() {
   static const std::vector<std::pair<double, double>> bands = {
@@ -134,9 +137,12 @@ AccuracyReport evaluate_accuracy(const std::vector<drivers::TruthRecord>& truth,
       ++band->frames;
       const bool moving = kmh >= kMovingKmh;
       if (moving) ++band->moving_frames;
+      const bool valid = can::quality_passes(e->quality, kBusMinQuality);
       if (e->has_speed) ++band->with_speed;
+      if (e->has_speed && valid) ++band->valid_speed;
       if (moving && e->has_direction && t.direction_deg) {
         ++band->with_direction;
+        if (valid) ++band->valid_direction;
         errs.direction.push_back(core::wrap_deg(e->direction_deg - *t.direction_deg));
       }
       if (moving && e->has_speed) {
@@ -198,10 +204,34 @@ nlohmann::json band_json(const BandAccuracy& b) {
           {"moving_frames", b.moving_frames},
           {"with_direction", b.with_direction},
           {"with_speed", b.with_speed},
+          {"valid_direction", b.valid_direction},
+          {"valid_speed", b.valid_speed},
           {"direction_deg", stats_json(b.direction_deg)},
           {"speed_pct", stats_json(b.speed_pct)},
           {"yaw_rate_dps", stats_json(b.yaw_rate_dps)},
           {"speed_off_5pct", b.speed_off}};
+}
+
+/// "valid on the bus (quality >= 0.30), direction/moving speed/all: 0-5 300/300 384/385; ...":
+/// the coverage the ECU sees; the table's counts take every quality.
+std::string valid_line(const AccuracyReport& r) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "valid on the bus (quality >= %.2f), direction/moving speed/all:", kBusMinQuality);
+  std::string out = buf;
+  const auto add = [&](const BandAccuracy& b, const char* label) {
+    std::snprintf(buf, sizeof buf, " %s %zu/%zu %zu/%zu", label, b.valid_direction, b.moving_frames, b.valid_speed,
+                  b.frames);
+    out += buf;
+  };
+  for (const BandAccuracy& b : r.bands) {
+    if (b.frames == 0) continue;
+    char label[32];
+    std::snprintf(label, sizeof label, "%.0f-%.0f", b.lo_kmh, b.hi_kmh);
+    add(b, label);
+    out += ';';
+  }
+  add(r.all, "all");
+  return out + '\n';
 }
 
 }  // namespace
@@ -212,6 +242,7 @@ std::string format_accuracy_table(const AccuracyReport& r) {
   out += "                     frames/moving  /all |     mean     std     rms     max |     mean     rms   off>5 |     rms\n";
   for (const BandAccuracy& b : r.bands) out += band_line(b) + '\n';
   out += band_line(r.all, "all") + '\n';
+  out += valid_line(r);
   char buf[256];
   if (r.standstill_frames > 0) {
     std::snprintf(buf, sizeof buf,

@@ -144,6 +144,25 @@ TEST(Accuracy, SpeedsOffByMoreThanFivePercentAreCountedPerBand) {
   EXPECT_NE(gvs::eval::format_accuracy_json(r).find("\"speed_off_5pct\": 2"), std::string::npos);
 }
 
+TEST(Accuracy, ValidOnTheBusCountsOnlyEstimatesAtTheBusQuality) {
+  // Three moving frames with direction and speed: quality 1.0, 0.3 (the
+  // bus's default bar, valid) and 0.29 (sent with its Valid bits 0).
+  std::vector<EstimateRow> e = {estimate(0, 30.0, 0.0), estimate(1, 30.0, 0.0), estimate(2, 30.0, 0.0)};
+  e[1].estimate.quality = 0.3;
+  e[2].estimate.quality = 0.29;
+  const auto r = evaluate_accuracy({truth(0, 30.0, 0.0), truth(1, 30.0, 0.0), truth(2, 30.0, 0.0)}, e);
+  EXPECT_EQ(r.bands[2].with_speed, 3U);
+  EXPECT_EQ(r.bands[2].valid_speed, 2U);
+  EXPECT_EQ(r.bands[2].with_direction, 3U);
+  EXPECT_EQ(r.bands[2].valid_direction, 2U);
+  EXPECT_EQ(r.all.valid_speed, 2U);
+  const std::string table = gvs::eval::format_accuracy_table(r);
+  EXPECT_NE(table.find("valid on the bus (quality >= 0.30), direction/moving speed/all: 15-60 2/3 2/3; all 2/3 2/3"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(gvs::eval::format_accuracy_json(r).find("\"valid_speed\": 2"), std::string::npos);
+}
+
 TEST(SpeedVsHeight, BinsTheSpeedErrorByHeightErrorAndCorrectsTheScale) {
   // An estimator that assumes 60 mm reads 60/H of the speed; one frame
   // without a height counts as nominal; a frame without a speed and a

@@ -29,6 +29,10 @@ struct BandAccuracy {
   std::size_t moving_frames = 0;        ///< of those, truth speed >= 0.5 km/h
   std::size_t with_direction = 0;       ///< moving frames with a direction estimate
   std::size_t with_speed = 0;           ///< frames with a speed estimate
+  /// Of with_direction and with_speed, those at the bus's default quality
+  /// (kBusMinQuality) or above: what the ECU is sent as valid.
+  std::size_t valid_direction = 0;
+  std::size_t valid_speed = 0;
   ErrorStats direction_deg;             ///< estimate - truth, wrapped to (-180, 180]
   ErrorStats speed_pct;                 ///< (estimate - truth) / truth * 100, truth >= 0.5 km/h
   ErrorStats yaw_rate_dps;              ///< where both exist
@@ -41,6 +45,9 @@ struct BandAccuracy {
 constexpr double kMovingKmh = 0.5;
 constexpr double kWrongSpeedPct = 5.0;
 constexpr double kWrongSpeedMinKmh = 1.0;
+/// gvsd's default `[can] min_quality` (can::ValidityRule): a lower quality
+/// goes out with its Valid bits 0.
+extern const double kBusMinQuality;
 
 /// The thesis's summary of a constant-direction run (its Tab. 4.3).
 struct ConstantDirectionSummary {
