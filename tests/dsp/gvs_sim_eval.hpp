@@ -34,6 +34,7 @@ struct BandScore {
   int frames = 0;
   int with_direction = 0;
   int with_speed = 0;
+  int valid_speed = 0;  ///< ... at a quality the bus sends as valid (can::ValidityRule's default)
   double dir_sq = 0.0;
   double dir_max = 0.0;
   double speed_sq = 0.0;  ///< relative error squared
@@ -42,6 +43,7 @@ struct BandScore {
   [[nodiscard]] double speed_rms() const { return with_speed ? std::sqrt(speed_sq / with_speed) : 0.0; }
   [[nodiscard]] double dir_coverage() const { return frames ? double(with_direction) / frames : 0.0; }
   [[nodiscard]] double speed_coverage() const { return frames ? double(with_speed) / frames : 0.0; }
+  [[nodiscard]] double valid_speed_coverage() const { return frames ? double(valid_speed) / frames : 0.0; }
 };
 
 struct RunScore {
@@ -131,6 +133,7 @@ inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, d
     if (e.has_speed) {
       const double rel = std::abs(e.speed_mps / t.speed_mps - 1.0);
       ++s.with_speed;
+      if (can::quality_passes(e.quality, can::ValidityRule{}.min_quality)) ++s.valid_speed;
       s.speed_sq += rel * rel;
       s.speed_max = std::max(s.speed_max, rel);
       bad = bad || rel > 0.05;

@@ -162,6 +162,23 @@ TEST(PhotographedGroundGrain, WeaklyElongatedSpectrumTiltedByTheGrainStillFindsT
   EXPECT_LE(b.dir_rms(), 0.3);
 }
 
+TEST(PhotographedGroundGrain, AClearStreakEndOnFaintWellLitGroundGoesOutValid) {
+  // acg_Asphalt025C, low contrast, in crawl at 5-15 km/h with 3 ms: 60-90 px
+  // streaks leave a texture SNR of 4-6 in a well-lit frame, and the clear
+  // streak end gives the axis and the speed (0.1-0.4 deg, 0.4 % RMS). The
+  // spectrum's SNR law (quality falling with its square below 10) is not the
+  // end's: these frames must go out valid (quality 0.3 or more), not only
+  // carry a value the bus flags invalid.
+  const RunScore s =
+      grain_run("acg_Asphalt025C_1024.png", "crawl", 6.0, 1, dsp::ExposureMode::fixed, "acg_Asphalt025C crawl seed 1");
+  const BandScore& b = s.bands[1];  // 5-15 km/h
+  ASSERT_GT(b.frames, 60);
+  EXPECT_GE(b.valid_speed_coverage(), 0.9);
+  EXPECT_LE(b.speed_rms(), 0.01);
+  EXPECT_LE(b.dir_rms(), 0.3);
+  EXPECT_EQ(s.valid_speed_off, 0);
+}
+
 TEST(PhotographedGroundGrain, StreakShorterThanTheSearchGivesNoConfidentDirection) {
   // spin starts at 15 m/s with no speed known: the adaptive strobe's first
   // short pulses draw 14-16 px streaks, whose end lies at the streak search's

@@ -75,7 +75,7 @@ StreakAxis refine_streak_axis(const StreakAxis& axis, bool pattern_out, bool lin
                              pattern_out ? &ws.ring_gain : nullptr);
 }
 
-/// The unit axis of motion in vehicle axes (sign arbitrary). The streak
+/// Whether the axis of motion is the streak end's lag. The streak
 /// end's lag is the sharper estimate for streaks of some tens of pixels (the
 /// spectrum's orientation also carries the texture's own anisotropy); from
 /// ~100 px the refined line in the spectrum is sharper. On a dark frame the
@@ -84,15 +84,20 @@ StreakAxis refine_streak_axis(const StreakAxis& axis, bool pattern_out, bool lin
 /// of the whole spectrum. Under-exposed 3 ms seed-1 runs, 5-15 km/h:
 /// 0.14-0.20 deg RMS (docs/estimator.md, "Dark frames"; measurements:
 /// commit fe69b64).
-Vec2 motion_axis(const StreakAxis& axis, const StreakEnd& end, bool dark_line, bool line_sharp,
-                 const CameraGeometry& cam, const GvsEstimatorSettings& set) {
+bool axis_from_end(const StreakEnd& end, bool dark_line, bool line_sharp, const GvsEstimatorSettings& set) {
+  const StreakLength& len = end.length;
+  return end.clear && !dark_line && len.length_px >= set.axis_from_streak_end_px &&
+         (len.length_px < set.axis_from_streak_end_max_px || !line_sharp);
+}
+
+/// The unit axis of motion in vehicle axes (sign arbitrary): the streak
+/// end's lag (`from_end`) or the spectrum's axis.
+Vec2 motion_axis(const StreakAxis& axis, const StreakEnd& end, bool from_end, const CameraGeometry& cam) {
   double u_row = axis.u_row;
   double u_col = axis.u_col;
-  const StreakLength& len = end.length;
-  if (end.clear && !dark_line && len.length_px >= set.axis_from_streak_end_px &&
-      (len.length_px < set.axis_from_streak_end_max_px || !line_sharp)) {
-    u_row = len.d_row_px / len.length_px;
-    u_col = len.d_col_px / len.length_px;
+  if (from_end) {
+    u_row = end.length.d_row_px / end.length.length_px;
+    u_col = end.length.d_col_px / end.length.length_px;
   }
   return unit_vector(image_shift_to_velocity(u_row, u_col, 1.0, cam));
 }
@@ -114,7 +119,7 @@ void set_streak_velocity(VelocityEstimate& e, Vec2 a, double sign, const StreakE
 /// Quality of a single-frame estimate without its sign's share: how
 /// elongated the spectrum is (direction), how deep the streak edge is
 /// (speed), and the texture power over the sensor noise.
-double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern_out,
+double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern_out, bool lit_end_axis,
                       const GvsEstimatorSettings& set) {
   const double q_dir = std::clamp((axis.anisotropy - set.min_anisotropy) / 0.3, 0.05, 1.0);
   // Without a speed the direction is as good as the spectrum says when the
@@ -138,8 +143,11 @@ double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern
   // a higher SNR: 0.06-0.29 deg RMS in every SNR bin, max 1.3 deg (six
   // under-exposed seed-1 runs; docs/estimator.md, "Dark frames"): a fixed,
   // low quality.
+  // A well-lit frame whose axis and speed come from its streak end: the
+  // SNR law is the spectrum's axis's, not the end's (end_axis_snr_quality).
   const double snr_ratio = std::min(axis.texture_snr / set.good_texture_snr, 1.0);
-  const double q_snr = pattern_out ? set.dark_frame_quality : std::max(snr_ratio * snr_ratio, 0.001);
+  double q_snr = pattern_out ? set.dark_frame_quality : std::max(snr_ratio * snr_ratio, 0.001);
+  if (lit_end_axis) q_snr = std::max(q_snr, set.end_axis_snr_quality);
   return q_dir * q_len * q_snr;
 }
 
@@ -206,14 +214,16 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   const StreakEnd end =
       find_streak_end(frame.gray, axis, refine, search, track.pattern, pattern_out, e.well_lit(), set, ws);
 
-  const Vec2 a = motion_axis(axis, end, pattern_out && refine, line_sharp, cam, set);
+  const bool from_end = axis_from_end(end, pattern_out && refine, line_sharp, set);
+  const Vec2 a = motion_axis(axis, end, from_end, cam);
   const SignChoice sign = choose_sign(track.motion, a, t_mid_ns, 0.0, set);
   const auto source = static_cast<int>(sign.source);
   result.sign_known = sign.known;
 
   set_streak_velocity(e, a, sign.sign, end, m_per_px, t_s);
   // Quality: the spectrum, the streak end, and how the sign was decided.
-  e.quality = streak_quality(axis, end, pattern_out, set) * sign_quality(sign.source);
+  const bool lit_end_axis = from_end && end.has_speed && e.well_lit();
+  e.quality = streak_quality(axis, end, pattern_out, lit_end_axis, set) * sign_quality(sign.source);
   const bool too_long = !end.has_speed && !end.ambiguous && axis.anisotropy >= set.long_streak_anisotropy;
   if (too_long) {
     result.note.too_long = true;
