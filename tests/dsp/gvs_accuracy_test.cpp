@@ -274,6 +274,21 @@ TEST(GvsAccuracy, UnderExposedCrawlKeepsPairsThroughTurnsAndBraking) {
   EXPECT_EQ(s.valid_speed_off, 0);
 }
 
+TEST(GvsAccuracy, TheFirstPairAfterFramesWithoutASpeedTakesTheRecentSlope) {
+  // crawl in the dark, seed 2: braking at 4.6 m/s^2 through 2.2 km/h, two
+  // frames too short a streak for a speed, then the first pair (frame 400).
+  // It measures the mean velocity of the interval between the frames, the
+  // speed 8 ms earlier, 5.2 % fast at quality 0.63 without a slope; the
+  // last speed (three frames back) gives the slope.
+  drivers::SimulatorConfig c = run("crawl", 6.75, drivers::LightLevel::under);
+  c.seed = 2;
+  const RunScore s = run_and_score(c, ExposureMode::fixed);
+  print_score("crawl fixed under-exposed seed 2, 6.75 s", s);
+  ASSERT_GT(band(s, 0).frames, 150);
+  EXPECT_LE(band(s, 0).speed_max, 0.05);
+  EXPECT_EQ(s.valid_speed_off, 0);
+}
+
 TEST(GvsAccuracy, UnderExposedAt10KmhTheLineGivesTheDirection) {
   // 83 px streaks in the dark: the streak end's lag, read through the noise
   // of the whole spectrum, scatters 0.35-0.5 deg; the spectral line, refined
