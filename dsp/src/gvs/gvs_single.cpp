@@ -119,7 +119,7 @@ void set_streak_velocity(VelocityEstimate& e, Vec2 a, double sign, const StreakE
 /// Quality of a single-frame estimate without its sign's share: how
 /// elongated the spectrum is (direction), how deep the streak edge is
 /// (speed), and the texture power over the sensor noise.
-double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern_out, bool lit_end_axis,
+double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern_out, bool lit_with_speed,
                       const GvsEstimatorSettings& set) {
   const double q_dir = std::clamp((axis.anisotropy - set.min_anisotropy) / 0.3, 0.05, 1.0);
   // Without a speed the direction is as good as the spectrum says when the
@@ -143,11 +143,11 @@ double streak_quality(const StreakAxis& axis, const StreakEnd& end, bool pattern
   // a higher SNR: 0.06-0.29 deg RMS in every SNR bin, max 1.3 deg (six
   // under-exposed seed-1 runs; docs/estimator.md, "Dark frames"): a fixed,
   // low quality.
-  // A well-lit frame whose axis and speed come from its streak end: the
-  // SNR law is the spectrum's axis's, not the end's (end_axis_snr_quality).
+  // A well-lit frame whose streak end gave the speed: the SNR law is that
+  // of a spectrum's axis without such an end (lit_speed_snr_quality).
   const double snr_ratio = std::min(axis.texture_snr / set.good_texture_snr, 1.0);
   double q_snr = pattern_out ? set.dark_frame_quality : std::max(snr_ratio * snr_ratio, 0.001);
-  if (lit_end_axis) q_snr = std::max(q_snr, set.end_axis_snr_quality);
+  if (lit_with_speed) q_snr = std::max(q_snr, set.lit_speed_snr_quality);
   return q_dir * q_len * q_snr;
 }
 
@@ -222,8 +222,7 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
 
   set_streak_velocity(e, a, sign.sign, end, m_per_px, t_s);
   // Quality: the spectrum, the streak end, and how the sign was decided.
-  const bool lit_end_axis = from_end && end.has_speed && e.well_lit();
-  e.quality = streak_quality(axis, end, pattern_out, lit_end_axis, set) * sign_quality(sign.source);
+  e.quality = streak_quality(axis, end, pattern_out, end.has_speed && e.well_lit(), set) * sign_quality(sign.source);
   const bool too_long = !end.has_speed && !end.ambiguous && axis.anisotropy >= set.long_streak_anisotropy;
   if (too_long) {
     result.note.too_long = true;

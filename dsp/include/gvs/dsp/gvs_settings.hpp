@@ -96,14 +96,14 @@ struct GvsEstimatorSettings {
   /// not below the exposure controller's 0.3 where the rest is good.
   double dark_frame_quality = 0.45;
   /// Quality factor, at the least, of a well-lit frame's texture SNR where
-  /// the axis and the speed come from a streak end it measured: the end's
-  /// lag is one peak of the autocorrelation, which the sensor's column
-  /// pattern (a ridge of every lag along the columns) does not pull as it
-  /// pulls the spectrum's axis. Such frames at texture SNR 4-6 (faint or
-  /// low-contrast photographed ground): 0.13 deg RMS, max 0.87, speed
-  /// 0.41 % RMS, max 2.4 % (688 frames of 78 seed-1 3 ms replays;
+  /// its streak end gave the speed. The (SNR / 10)^2 law was measured on
+  /// dark frames, where the sensor's column pattern pulls the spectrum's
+  /// axis; a well-lit frame whose streak end stands clear has its axis from
+  /// that end's lag (up to 100 px) or from the refined spectral line along
+  /// it. Such frames at texture SNR 4-10: 0.11 deg RMS, max 0.87, speed
+  /// 0.38 % RMS, max 2.4 % (1348 frames of 78 seed-1 3 ms replays;
   /// docs/estimator.md, "Short streaks, faint streaks").
-  double end_axis_snr_quality = 0.45;
+  double lit_speed_snr_quality = 0.45;
   double dark_max_streak_px = 100.0;  ///< dark frames: longer streaks give no speed (their end is found short)
   double good_texture_snr = 10.0;    ///< full quality from here (normal light: 10-70)
   double refine_min_anisotropy = 0.8; ///< longer streaks: refine the axis on the spectral line
