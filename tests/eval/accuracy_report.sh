@@ -36,6 +36,8 @@ PY
 grep -q '^#### `sine`, method `gvs`$' "$work/out.md" || fail "default method is not gvs: $(cat "$work/out.md")"
 [[ $(grep -c '^#### ' "$work/out.md") -eq 1 ]] || fail "more than the one default method: $(grep '^####' "$work/out.md")"
 grep -q '^| all | 18 |' "$work/out.md" || fail "not one 0.3 s run of 18 frames: $(cat "$work/out.md")"
+grep -Eq '^Valid on the bus \(quality >= 0.3\), direction on / speed on: .*all [0-9.]+ % / [0-9.]+ %$' "$work/out.md" \
+  || fail "no valid-on-the-bus line: $(cat "$work/out.md")"
 [[ ! -s $work/err.txt ]] || fail "wrote to a non-terminal stderr: $(cat "$work/err.txt")"
 no_temporaries "after a run"
 
