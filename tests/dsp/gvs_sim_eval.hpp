@@ -120,24 +120,25 @@ inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, d
     BandScore& s = score.bands[static_cast<std::size_t>(b)];
     ++s.frames;
     bool bad = false;
+    const bool valid = can::quality_passes(e.quality, can::ValidityRule{}.min_quality);  // as the bus sends it
     if (e.has_direction && t.direction_deg) {
       const double err = std::abs(dsp::wrap_deg(e.direction_deg - *t.direction_deg));
       bad = bad || err > 1.0;
       ++s.with_direction;
       s.dir_sq += err * err;
       s.dir_max = std::max(s.dir_max, err);
-      if (err > 90.0 && t.speed_mps >= 1.0 / 3.6 && can::quality_passes(e.quality, can::ValidityRule{}.min_quality)) {
+      if (err > 90.0 && t.speed_mps >= 1.0 / 3.6 && valid) {
         ++score.valid_direction_reversed;
       }
     }
     if (e.has_speed) {
       const double rel = std::abs(e.speed_mps / t.speed_mps - 1.0);
       ++s.with_speed;
-      if (can::quality_passes(e.quality, can::ValidityRule{}.min_quality)) ++s.valid_speed;
+      if (valid) ++s.valid_speed;
       s.speed_sq += rel * rel;
       s.speed_max = std::max(s.speed_max, rel);
       bad = bad || rel > 0.05;
-      if (rel > 0.05 && t.speed_mps >= 1.0 / 3.6 && can::quality_passes(e.quality, can::ValidityRule{}.min_quality)) {
+      if (rel > 0.05 && t.speed_mps >= 1.0 / 3.6 && valid) {
         ++score.valid_speed_off;
       }
     }

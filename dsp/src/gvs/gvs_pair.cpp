@@ -113,10 +113,10 @@ bool turn_is_plausible(Vec2 v_pair, const MotionMemory& m, std::int64_t t_mid_ns
 /// frames of a decelerating car needs that slope (under-exposed 0-5 km/h;
 /// measurements: commit 94b4da9). Failing both, from the last speed
 /// measured within speed_memory_s, along the pair's direction: a car
-/// braking at 4.6 m/s^2 through 2.2 km/h loses 11 % of its speed per frame,
-/// and the first pair after two frames without a speed read the interval's
-/// mean 5.2 % fast (procedural `crawl` under-exposed, seed 2, frame 400;
-/// -3.3 % with this slope).
+/// braking at 4.6 m/s^2 through 2.2 km/h loses 11 % of its speed per frame:
+/// there the first pair after two frames without a speed measures an
+/// interval's mean 5.2 % above the speed at the frame, and this slope reads
+/// it 3.3 % slow (procedural `crawl` under-exposed, seed 2, frame 400).
 Vec2 compensate_lag(Vec2 v_pair, const MotionMemory& m, std::int64_t index, std::int64_t t_mid_ns, double dt_s,
                     const GvsEstimatorSettings& set) {
   Vec2 v = v_pair;
@@ -130,8 +130,9 @@ Vec2 compensate_lag(Vec2 v_pair, const MotionMemory& m, std::int64_t index, std:
              pair_speed > 0.0) {
     // (Not from a standstill: when the car set off since is not known.)
     // The pair's mean velocity is that of dt/2 before this frame; only its
-    // speed is carried forward: extrapolating the direction over this
-    // longer span overshoots a turn (1.45 deg off instead of 1.28 there).
+    // speed is carried forward: the direction extrapolated over this longer
+    // span overshoots a turn (on that frame 1.45 deg off, the pair's own
+    // direction 1.28).
     const double span_s = static_cast<double>(t_mid_ns - m.speed_t_ns) * 1e-9 - 0.5 * dt_s;
     if (span_s > 0.0) {
       const double dv_along = (pair_speed - m.speed_mps) * 0.5 * dt_s / span_s;

@@ -75,7 +75,7 @@ StreakAxis refine_streak_axis(const StreakAxis& axis, bool pattern_out, bool lin
                              pattern_out ? &ws.ring_gain : nullptr);
 }
 
-/// Whether the axis of motion is the streak end's lag. The streak
+/// The unit axis of motion in vehicle axes (sign arbitrary). The streak
 /// end's lag is the sharper estimate for streaks of some tens of pixels (the
 /// spectrum's orientation also carries the texture's own anisotropy); from
 /// ~100 px the refined line in the spectrum is sharper. On a dark frame the
@@ -84,20 +84,15 @@ StreakAxis refine_streak_axis(const StreakAxis& axis, bool pattern_out, bool lin
 /// of the whole spectrum. Under-exposed 3 ms seed-1 runs, 5-15 km/h:
 /// 0.14-0.20 deg RMS (docs/estimator.md, "Dark frames"; measurements:
 /// commit fe69b64).
-bool axis_from_end(const StreakEnd& end, bool dark_line, bool line_sharp, const GvsEstimatorSettings& set) {
-  const StreakLength& len = end.length;
-  return end.clear && !dark_line && len.length_px >= set.axis_from_streak_end_px &&
-         (len.length_px < set.axis_from_streak_end_max_px || !line_sharp);
-}
-
-/// The unit axis of motion in vehicle axes (sign arbitrary): the streak
-/// end's lag (`from_end`) or the spectrum's axis.
-Vec2 motion_axis(const StreakAxis& axis, const StreakEnd& end, bool from_end, const CameraGeometry& cam) {
+Vec2 motion_axis(const StreakAxis& axis, const StreakEnd& end, bool dark_line, bool line_sharp,
+                 const CameraGeometry& cam, const GvsEstimatorSettings& set) {
   double u_row = axis.u_row;
   double u_col = axis.u_col;
-  if (from_end) {
-    u_row = end.length.d_row_px / end.length.length_px;
-    u_col = end.length.d_col_px / end.length.length_px;
+  const StreakLength& len = end.length;
+  if (end.clear && !dark_line && len.length_px >= set.axis_from_streak_end_px &&
+      (len.length_px < set.axis_from_streak_end_max_px || !line_sharp)) {
+    u_row = len.d_row_px / len.length_px;
+    u_col = len.d_col_px / len.length_px;
   }
   return unit_vector(image_shift_to_velocity(u_row, u_col, 1.0, cam));
 }
@@ -214,8 +209,7 @@ StreakResult analyse_streak(const FrameView& frame, std::int64_t t_mid_ns, doubl
   const StreakEnd end =
       find_streak_end(frame.gray, axis, refine, search, track.pattern, pattern_out, e.well_lit(), set, ws);
 
-  const bool from_end = axis_from_end(end, pattern_out && refine, line_sharp, set);
-  const Vec2 a = motion_axis(axis, end, from_end, cam);
+  const Vec2 a = motion_axis(axis, end, pattern_out && refine, line_sharp, cam, set);
   const SignChoice sign = choose_sign(track.motion, a, t_mid_ns, 0.0, set);
   const auto source = static_cast<int>(sign.source);
   result.sign_known = sign.known;
