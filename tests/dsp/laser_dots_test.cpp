@@ -1,7 +1,8 @@
 // The laser-dot finder (docs/estimator.md, "Height from the laser dots") on
 // simulated frames: height, pitch and roll against the truth; a dot off the
 // frame or under dirt left out (no height with fewer than three); a bright
-// grain on a track refused by the fourth dot; the velocity unchanged by the
+// grain on a track refused by the fourth dot, and the fourth found where three
+// put it under a brighter grain; the velocity unchanged by the
 // dots once they are masked; the ground-plane maths on exact points.
 #include <gtest/gtest.h>
 
@@ -304,6 +305,74 @@ TEST(LaserDots, TheFourthDotRefusesABrightGrainTakenForADot) {
   ASSERT_TRUE(res_far.ride.has_height);
   EXPECT_NEAR(res_far.ride.height_mm, kNominalMm, 0.1);
   EXPECT_FALSE(finder3.find(far).ride.has_height);
+}
+
+/// `gray` with the spot of dot `k` scaled by `dot_gain` over its ground and
+/// a white grain (a 2 px disc at 255 on the dot's ground) on its track
+/// `shift_px` further along.
+cv::Mat with_grain_on_track(const drivers::SimulatorConfig& c, const cv::Mat& gray, const LaserDot& dot, std::size_t k,
+                            double shift_px, double dot_gain) {
+  double r_hi = 0.0, c_hi = 0.0;
+  const core::LaserBeam& b = c.lasers.beams[k];
+  core::head_to_pixel(c.camera, kNominalMm, b.origin_mm() + ((kNominalMm + 5.0 + b.z_mm) / -b.direction().z) * b.direction(),
+                      r_hi, c_hi);
+  const double len = std::hypot(r_hi - dot.row, c_hi - dot.col);
+  const double row = dot.row + shift_px * (r_hi - dot.row) / len;
+  const double col = dot.col + shift_px * (c_hi - dot.col) / len;
+  cv::Mat out = gray.clone();
+  const double background = dot.mask_background_dn;
+  for (int r = 0; r < out.rows; ++r) {
+    for (int cc = 0; cc < out.cols; ++cc) {
+      double v = out.at<std::uint8_t>(r, cc);
+      if (std::hypot(r - dot.row, cc - dot.col) <= 5.0) v = background + (v - background) * dot_gain;
+      const double d_grain = std::hypot(r - row, cc - col);
+      if (d_grain <= 2.0) v = 255.0;
+      else if (d_grain <= 5.0) v = background;
+      out.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    }
+  }
+  return out;
+}
+
+TEST(LaserDots, TheFourthDotIsFoundWhereTheOtherThreePutItUnderABrighterGrain) {
+  // Two tracks in trouble: a white grain outshines dot 3 (dimmed to half,
+  // on a darker stone) 40 px along its track, and another as bright as
+  // dot 1 stands 40 px along its own. Every plane of the brightest spots
+  // fails, and dots 0-2 with dot 1's rival beside it make a plane nothing
+  // checks; the plane of dots 0-2 puts dot 3 where it is, and its track
+  // shows it there: four dots, one plane, the right height.
+  drivers::SimulatorConfig c = laser_config();
+  drivers::Simulator sim(c, standing({0.0, 0.0, 0.0}, 8.0, 0.0));
+  drivers::SimFrame f;
+  sim.render(4, double_pulse(), f);
+  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
+  const LaserDotResult clean = finder.find(f.gray);
+  ASSERT_EQ(clean.found, 4U);
+  ASSERT_TRUE(clean.ride.has_height);
+  const cv::Mat grain3 = with_grain_on_track(c, f.gray, clean.dots[3], 3, 40.0, 0.5);
+  const cv::Mat both = with_grain_on_track(c, grain3, clean.dots[1], 1, 40.0, 1.0);
+  const LaserDotResult res = finder.find(both);
+  ASSERT_TRUE(res.ride.has_height) << "dot 3 " << static_cast<int>(res.dots[3].status) << " dot 1 "
+                                   << static_cast<int>(res.dots[1].status);
+  EXPECT_NEAR(res.ride.height_mm, clean.ride.height_mm, 0.05);
+  EXPECT_NEAR(res.ride.pitch_deg, clean.ride.pitch_deg, 0.2);
+  EXPECT_NEAR(res.ride.roll_deg, clean.ride.roll_deg, 0.2);
+  EXPECT_EQ(res.found, 4U);
+  EXPECT_NEAR(res.dots[3].row, clean.dots[3].row, 0.5);
+  EXPECT_NEAR(res.dots[3].col, clean.dots[3].col, 0.5);
+  // Both spots on track 3 are masked: the dot, and the grain taken for it.
+  EXPECT_TRUE(res.dots[3].masked && res.dots[3].rival);
+  EXPECT_NEAR(res.dots[3].mask_row, clean.dots[3].row, 0.5);
+  EXPECT_GT(std::hypot(res.dots[3].rival_row - clean.dots[3].row, res.dots[3].rival_col - clean.dots[3].col), 30.0);
+
+  // Without the dot under the grain's track (blotted out), nothing stands
+  // where the three put it: no height rather than an unchecked plane.
+  cv::Mat blotted = both.clone();
+  for (int r = 0; r < blotted.rows; ++r)
+    for (int cc = 0; cc < blotted.cols; ++cc)
+      if (std::hypot(r - clean.dots[3].row, cc - clean.dots[3].col) <= 5.0)
+        blotted.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::lround(clean.dots[3].mask_background_dn));
+  EXPECT_FALSE(finder.find(blotted).ride.has_height);
 }
 
 TEST(LaserDots, ADarkPatchGivesTheHeightOrNone) {

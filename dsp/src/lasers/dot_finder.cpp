@@ -85,8 +85,10 @@ LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nomina
     if (t.row.size() < 8) fail("beam " + std::to_string(k) + ": its track is not in the frame");
     longest = std::max(longest, t.row.size());
   }
-  responses_.resize(longest);
-  backgrounds_.resize(longest);
+  for (std::size_t k = 0; k < lasers.count; ++k) {
+    responses_[k].resize(longest);
+    backgrounds_[k].resize(longest);
+  }
   scratch_.resize(longest);
 }
 
@@ -101,45 +103,48 @@ double LaserDotFinder::response(const cv::Mat& gray, const Track& t, int r, int 
 void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot) {
   const Track& t = tracks_[k];
   const std::size_t n = t.row.size();
+  std::vector<double>& resp = responses_[k];
+  std::vector<double>& bgs = backgrounds_[k];
   // 1. Centre-surround along the track: mean over the spot minus the
   //    ground around it.
   std::size_t best = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    responses_[i] = response(gray, t, static_cast<int>(std::lround(t.row[i])), static_cast<int>(std::lround(t.col[i])),
-                             backgrounds_[i]);
-    if (responses_[i] > responses_[best]) best = i;
+    resp[i] = response(gray, t, static_cast<int>(std::lround(t.row[i])), static_cast<int>(std::lround(t.col[i])), bgs[i]);
+    if (resp[i] > resp[best]) best = i;
   }
   // 2. Is it clearly there? Robust spread of the track's responses (median
   //    absolute deviation: the asphalt's texture and the sensor's noise).
-  std::copy(responses_.begin(), responses_.begin() + static_cast<std::ptrdiff_t>(n), scratch_.begin());
+  std::copy(resp.begin(), resp.begin() + static_cast<std::ptrdiff_t>(n), scratch_.begin());
   const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(n / 2);
   std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
   const double median = *mid;
-  for (std::size_t i = 0; i < n; ++i) scratch_[i] = std::abs(responses_[i] - median);
+  for (std::size_t i = 0; i < n; ++i) scratch_[i] = std::abs(resp[i] - median);
   std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
   const double spread = 1.4826 * *mid;
-  const double peak = responses_[best] - median;
+  median_[k] = median;
+  spread_[k] = spread;
+  const double peak = resp[best] - median;
   const double exclusion = kWindowSigmas * t.sigma_along_px + 2.0;
   std::size_t rival = n;
   for (std::size_t i = 0; i < n; ++i) {
     if (std::abs(static_cast<double>(i) - static_cast<double>(best)) <= exclusion) continue;
-    if (rival == n || responses_[i] > responses_[rival]) rival = i;
+    if (rival == n || resp[i] > resp[rival]) rival = i;
   }
-  dot.contrast_dn = responses_[best];
+  dot.contrast_dn = resp[best];
   dot.peak_sigmas = spread > 0.0 ? peak / spread : 0.0;
-  dot.rival_fraction = rival < n && peak > 0.0 ? (responses_[rival] - median) / peak : 0.0;
-  const bool bright = responses_[best] >= thresholds_.min_contrast_dn && peak >= thresholds_.min_sigmas * spread;
-  const bool contested = rival < n && responses_[rival] - median >= thresholds_.max_rival_fraction * peak;
+  dot.rival_fraction = rival < n && peak > 0.0 ? (resp[rival] - median) / peak : 0.0;
+  const bool bright = resp[best] >= thresholds_.min_contrast_dn && peak >= thresholds_.min_sigmas * spread;
+  const bool contested = rival < n && resp[rival] - median >= thresholds_.max_rival_fraction * peak;
   if (bright) {
     dot.masked = true;
     dot.mask_row = t.row[best];
     dot.mask_col = t.col[best];
-    dot.mask_background_dn = backgrounds_[best];
+    dot.mask_background_dn = bgs[best];
     if (contested) {
       dot.rival = true;
       dot.rival_row = t.row[rival];
       dot.rival_col = t.col[rival];
-      dot.rival_background_dn = backgrounds_[rival];
+      dot.rival_background_dn = bgs[rival];
     }
   }
   dot.status = !bright ? DotStatus::faint : DotStatus::contested;
@@ -171,7 +176,7 @@ DotStatus LaserDotFinder::measure(const cv::Mat& gray, std::size_t k, std::size_
   //    spot's own Gaussian centred on the current estimate (a matched
   //    centroid: pixels far out, mostly asphalt and noise, count little),
   //    in a window of +-3 sigma, four times from the peak.
-  const double bg = backgrounds_[sample];
+  const double bg = backgrounds_[k][sample];
   double rc = t.row[sample], cc = t.col[sample];
   for (int iter = 0; iter < 4; ++iter) {
     const int r0 = static_cast<int>(std::lround(rc)), c0 = static_cast<int>(std::lround(cc));
@@ -212,13 +217,13 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
   LaserDotResult out;
   if (gray.type() != CV_8UC1 || gray.rows != camera_.height_px || gray.cols != camera_.width_px) return out;
   for (std::size_t k = 0; k < lasers_.count; ++k) find_one(gray, k, out.dots[k]);
-  if (lasers_.count >= 3) resolve(out);
+  if (lasers_.count >= 3) resolve(gray, out);
   for (std::size_t k = 0; k < lasers_.count; ++k)
     if (out.dots[k].found) ++out.found;
   return out;
 }
 
-void LaserDotFinder::resolve(LaserDotResult& out) const {
+void LaserDotFinder::resolve(const cv::Mat& gray, LaserDotResult& out) const {
   // Each dot: found (one choice), contested with two measured candidates
   // (two choices), else absent. A plane outside the searched heights, or
   // tilted beyond max_tilt_deg, is not the ground; a contested dot is
@@ -286,6 +291,10 @@ void LaserDotFinder::resolve(LaserDotResult& out) const {
   solve(present, s);
   if (s.count == 0 && present_count == 4) {
     for (std::size_t drop = 0; drop < 4; ++drop) solve(present & ~(1u << drop), s);
+  }
+  if (s.count == 0 && lasers_.count == 4) {
+    fourth_where_three_put_it(gray, out);
+    return;
   }
   if (s.count != 1) return;
   for (std::size_t k = 0; k < lasers_.count; ++k) {

@@ -8,7 +8,9 @@
 // plane with the other dots. Three points always make a plane, so with
 // three dots a bright grain taken for a dot whose plane is still plausible
 // gives a wrong height (docs/estimator.md, "Wrong dots"); a fourth beam
-// checks the plane (the four must agree) and stands in for a dot not found.
+// checks the plane (the four must agree) and stands in for a dot not found,
+// and where no plane of the brightest spots holds, a plane of three is
+// checked by a fourth dot found where they put it, not the track's brightest.
 //
 // Pure: no I/O, threads or clocks; every buffer is made in the constructor.
 #pragma once
@@ -114,7 +116,8 @@ class LaserDotFinder {
   };
   void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
   DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
-  void resolve(LaserDotResult& out) const;
+  void resolve(const cv::Mat& gray, LaserDotResult& out) const;
+  void fourth_where_three_put_it(const cv::Mat& gray, LaserDotResult& out) const;
   [[nodiscard]] bool plausible(const core::RideHeight& ride) const;
   double response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const;
 
@@ -122,7 +125,10 @@ class LaserDotFinder {
   double nominal_height_mm_;
   core::LaserGeometry lasers_;
   std::array<Track, core::LaserGeometry::kMaxBeams> tracks_{};
-  std::vector<double> responses_, backgrounds_, scratch_;
+  /// Per track: the centre-surround response and the ground around each sample, their median and robust spread.
+  std::array<std::vector<double>, core::LaserGeometry::kMaxBeams> responses_, backgrounds_;
+  std::array<double, core::LaserGeometry::kMaxBeams> median_{}, spread_{};
+  std::vector<double> scratch_;
   Thresholds thresholds_;
 };
 

@@ -1,0 +1,138 @@
+// The fourth dot where three put it (docs/estimator.md, "Height from the
+// laser dots", step 4): when no plane of the brightest candidates holds,
+// each plausible plane of three dots predicts where the fourth beam meets
+// the ground; if its track shows a dot there (bright by the same rule as
+// any dot, only not the brightest: a white grain elsewhere on the track
+// outshines it), the four are fitted and must agree as four found dots do.
+// A grain is then masked beside the dot.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+
+#include "gvs/dsp/ground_plane.hpp"
+#include "gvs/dsp/laser_dots.hpp"
+
+namespace gvs::dsp {
+namespace {
+
+/// Where a beam meets the plane through p1, p2, p3 (head axes); false if
+/// it runs along the plane.
+bool beam_on_plane(const core::LaserBeam& beam, const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
+                   core::Vec3& point_mm) {
+  const core::Vec3 n = core::cross(p2 - p1, p3 - p1);
+  const core::Vec3 o = beam.origin_mm();
+  const core::Vec3 u = beam.direction();
+  const double nu = core::dot(n, u);
+  if (!(std::abs(nu) > 1e-9 * std::sqrt(core::dot(n, n)))) return false;
+  const double t = core::dot(n, p1 - o) / nu;
+  point_mm = o + t * u;
+  return t > 0.0;
+}
+
+/// Samples either side of the predicted one searched for the dot: the
+/// three dots' scatter moves the prediction by well under a pixel, a plane
+/// tilted by max_tilt_deg through wrong dots by several.
+constexpr int kSearchSamples = 2;
+
+}  // namespace
+
+void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResult& out) const {
+  constexpr std::size_t kMax = core::LaserGeometry::kMaxBeams;
+  struct Found {
+    std::size_t fourth = 0;
+    std::array<std::size_t, kMax> pick{};  ///< candidate of each of the three (0 for a found dot)
+    std::size_t sample = 0;                ///< the fourth's sample on its track
+    Candidate dot;
+    core::RideHeight ride;
+  };
+  Found first;
+  std::size_t distinct = 0;
+  for (std::size_t fourth = 0; fourth < kMax; ++fourth) {
+    const LaserDot& d4 = out.dots[fourth];
+    if (d4.rival) continue;  // a dot and a rival already masked on its track: no third spot
+    std::array<std::size_t, 3> three{};
+    std::array<std::size_t, 3> choices{};
+    std::size_t m = 0;
+    for (std::size_t k = 0; k < kMax; ++k) {
+      if (k == fourth) continue;
+      const LaserDot& d = out.dots[k];
+      choices[m] = d.found ? 1 : (d.status == DotStatus::contested && d.alternatives == 2 ? 2 : 0);
+      three[m++] = k;
+    }
+    if (choices[0] == 0 || choices[1] == 0 || choices[2] == 0) continue;
+    const Track& t = tracks_[fourth];
+    const std::size_t n = t.row.size();
+    for (std::size_t combo = 0; combo < choices[0] * choices[1] * choices[2]; ++combo) {
+      std::array<std::size_t, kMax> pick{};
+      std::array<core::Vec3, 4> p{};
+      for (std::size_t i = 0, rest = combo; i < 3; ++i) {
+        pick[three[i]] = rest % choices[i];
+        rest /= choices[i];
+        const LaserDot& d = out.dots[three[i]];
+        p[i] = d.found ? d.ground_mm : d.candidates[pick[three[i]]].ground_mm;
+      }
+      if (!plausible(ground_from_points(p[0], p[1], p[2], camera_.mount_yaw_deg))) continue;
+      core::Vec3 predicted;
+      if (!beam_on_plane(lasers_.beams[fourth], p[0], p[1], p[2], predicted) || !(predicted.z < 0.0)) continue;
+      double row = 0.0, col = 0.0;
+      core::head_to_pixel(camera_, nominal_height_mm_, predicted, row, col);
+      // The predicted sample: samples are 1 px apart along the track.
+      const double along = (row - t.row[0]) * t.er + (col - t.col[0]) * t.ec;
+      const long centre = std::lround(along);
+      if (centre < 0 || centre >= static_cast<long>(n)) continue;
+      const long last = std::min(static_cast<long>(n) - 1, centre + kSearchSamples);
+      std::size_t best = n;
+      for (long i = std::max(0L, centre - kSearchSamples); i <= last; ++i) {
+        const auto si = static_cast<std::size_t>(i);
+        if (best == n || responses_[fourth][si] > responses_[fourth][best]) best = si;
+      }
+      // Step 2's bars, without the rival rule.
+      const double response = responses_[fourth][best];
+      const bool bright = response >= thresholds_.min_contrast_dn &&
+                          response - median_[fourth] >= thresholds_.min_sigmas * spread_[fourth];
+      if (!bright) continue;
+      Candidate c4;
+      if (measure(gray, fourth, best, c4) != DotStatus::found) continue;
+      p[3] = c4.ground_mm;
+      double residual_mm = 0.0;
+      const core::RideHeight ride = ground_from_fit(p.data(), 4, camera_.mount_yaw_deg, residual_mm);
+      if (residual_mm > thresholds_.max_plane_residual_mm || !plausible(ride)) continue;
+      // The same four dots reached from another three count once.
+      if (distinct > 0 && std::abs(ride.height_mm - first.ride.height_mm) < thresholds_.max_plane_residual_mm &&
+          std::abs(ride.pitch_deg - first.ride.pitch_deg) < 0.1 && std::abs(ride.roll_deg - first.ride.roll_deg) < 0.1)
+        continue;
+      if (++distinct == 1) first = Found{fourth, pick, best, c4, ride};
+    }
+  }
+  if (distinct != 1) return;
+  for (std::size_t k = 0; k < kMax; ++k) {
+    LaserDot& d = out.dots[k];
+    if (k == first.fourth) {
+      if (d.masked) {  // what was taken for this dot: a grain, masked still
+        d.rival = true;
+        d.rival_row = d.mask_row;
+        d.rival_col = d.mask_col;
+        d.rival_background_dn = d.mask_background_dn;
+      }
+      d.masked = true;
+      d.mask_row = first.dot.row;
+      d.mask_col = first.dot.col;
+      d.mask_background_dn = backgrounds_[k][first.sample];
+      d.contrast_dn = responses_[k][first.sample];
+      d.row = first.dot.row;
+      d.col = first.dot.col;
+      d.ground_mm = first.dot.ground_mm;
+    } else if (!d.found) {
+      const Candidate& cand = d.candidates[first.pick[k]];
+      d.row = cand.row;
+      d.col = cand.col;
+      d.ground_mm = cand.ground_mm;
+    }
+    d.found = true;
+    d.status = DotStatus::found;
+  }
+  out.ride = first.ride;
+}
+
+}  // namespace gvs::dsp
