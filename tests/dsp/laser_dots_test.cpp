@@ -242,18 +242,25 @@ TEST(LaserDots, DirtOverTwoDotsGivesNoHeight) {
   EXPECT_FALSE(res2.ride.has_height);
 }
 
-/// The frame with dot `k` blotted out and a spot as bright painted on its
-/// track `shift_px` further along (towards a higher ground): a grain the
-/// finder takes for the dot.
-cv::Mat with_grain_for_dot(const drivers::SimulatorConfig& c, const cv::Mat& gray, const LaserDot& dot, std::size_t k,
-                           double shift_px) {
+/// The point `shift_px` from dot `k` along its track, towards a higher ground.
+void along_track(const drivers::SimulatorConfig& c, const LaserDot& dot, std::size_t k, double shift_px, double& row,
+                 double& col) {
   double r_hi = 0.0, c_hi = 0.0;
   const core::LaserBeam& b = c.lasers.beams[k];
   core::head_to_pixel(c.camera, kNominalMm, b.origin_mm() + ((kNominalMm + 5.0 + b.z_mm) / -b.direction().z) * b.direction(),
                       r_hi, c_hi);
   const double len = std::hypot(r_hi - dot.row, c_hi - dot.col);
-  const double row = dot.row + shift_px * (r_hi - dot.row) / len;
-  const double col = dot.col + shift_px * (c_hi - dot.col) / len;
+  row = dot.row + shift_px * (r_hi - dot.row) / len;
+  col = dot.col + shift_px * (c_hi - dot.col) / len;
+}
+
+/// The frame with dot `k` blotted out and a spot as bright painted on its
+/// track `shift_px` further along (towards a higher ground): a grain the
+/// finder takes for the dot.
+cv::Mat with_grain_for_dot(const drivers::SimulatorConfig& c, const cv::Mat& gray, const LaserDot& dot, std::size_t k,
+                           double shift_px) {
+  double row = 0.0, col = 0.0;
+  along_track(c, dot, k, shift_px, row, col);
   cv::Mat out = gray.clone();
   const double background = dot.mask_background_dn;
   const double peak =
@@ -312,13 +319,8 @@ TEST(LaserDots, TheFourthDotRefusesABrightGrainTakenForADot) {
 /// `shift_px` further along.
 cv::Mat with_grain_on_track(const drivers::SimulatorConfig& c, const cv::Mat& gray, const LaserDot& dot, std::size_t k,
                             double shift_px, double dot_gain) {
-  double r_hi = 0.0, c_hi = 0.0;
-  const core::LaserBeam& b = c.lasers.beams[k];
-  core::head_to_pixel(c.camera, kNominalMm, b.origin_mm() + ((kNominalMm + 5.0 + b.z_mm) / -b.direction().z) * b.direction(),
-                      r_hi, c_hi);
-  const double len = std::hypot(r_hi - dot.row, c_hi - dot.col);
-  const double row = dot.row + shift_px * (r_hi - dot.row) / len;
-  const double col = dot.col + shift_px * (c_hi - dot.col) / len;
+  double row = 0.0, col = 0.0;
+  along_track(c, dot, k, shift_px, row, col);
   cv::Mat out = gray.clone();
   const double background = dot.mask_background_dn;
   for (int r = 0; r < out.rows; ++r) {

@@ -162,10 +162,7 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
   Candidate cand;
   dot.status = measure(gray, k, best, cand);
   if (dot.status != DotStatus::found) return;
-  dot.found = true;
-  dot.row = cand.row;
-  dot.col = cand.col;
-  dot.ground_mm = cand.ground_mm;
+  dot.take(cand);
   dot.mask_row = cand.row;
   dot.mask_col = cand.col;
 }
@@ -306,13 +303,7 @@ void LaserDotFinder::resolve(const cv::Mat& gray, LaserDotResult& out) const {
       }
       continue;
     }
-    if (d.found) continue;
-    const Candidate& cand = d.candidates[s.pick[k]];
-    d.found = true;
-    d.status = DotStatus::found;
-    d.row = cand.row;
-    d.col = cand.col;
-    d.ground_mm = cand.ground_mm;
+    if (!d.found) d.take(d.candidates[s.pick[k]]);
   }
   out.ride = s.ride;
 }

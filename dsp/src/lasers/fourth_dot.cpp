@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 
 #include "gvs/dsp/ground_plane.hpp"
 #include "gvs/dsp/laser_dots.hpp"
@@ -108,29 +107,23 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
   if (distinct != 1) return;
   for (std::size_t k = 0; k < kMax; ++k) {
     LaserDot& d = out.dots[k];
-    if (k == first.fourth) {
-      if (d.masked) {  // what was taken for this dot: a grain, masked still
-        d.rival = true;
-        d.rival_row = d.mask_row;
-        d.rival_col = d.mask_col;
-        d.rival_background_dn = d.mask_background_dn;
-      }
-      d.masked = true;
-      d.mask_row = first.dot.row;
-      d.mask_col = first.dot.col;
-      d.mask_background_dn = backgrounds_[k][first.sample];
-      d.contrast_dn = responses_[k][first.sample];
-      d.row = first.dot.row;
-      d.col = first.dot.col;
-      d.ground_mm = first.dot.ground_mm;
-    } else if (!d.found) {
-      const Candidate& cand = d.candidates[first.pick[k]];
-      d.row = cand.row;
-      d.col = cand.col;
-      d.ground_mm = cand.ground_mm;
+    if (k != first.fourth) {
+      if (!d.found) d.take(d.candidates[first.pick[k]]);
+      continue;
     }
-    d.found = true;
-    d.status = DotStatus::found;
+    if (d.masked) {  // what was taken for this dot: a grain, masked still
+      d.rival = true;
+      d.rival_row = d.mask_row;
+      d.rival_col = d.mask_col;
+      d.rival_background_dn = d.mask_background_dn;
+    }
+    d.masked = true;
+    d.mask_row = first.dot.row;
+    d.mask_col = first.dot.col;
+    d.mask_background_dn = backgrounds_[k][first.sample];
+    d.contrast_dn = responses_[k][first.sample];
+    d.peak_sigmas = spread_[k] > 0.0 ? (d.contrast_dn - median_[k]) / spread_[k] : 0.0;
+    d.take(first.dot);
   }
   out.ride = first.ride;
 }

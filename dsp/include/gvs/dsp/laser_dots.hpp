@@ -55,6 +55,15 @@ struct LaserDot {
   /// Contested: the best and its rival, both measured (the plane decides).
   std::array<Candidate, 2> candidates{};
   std::size_t alternatives = 0;
+
+  /// The dot is `c`: found there.
+  void take(const Candidate& c) {
+    found = true;
+    status = DotStatus::found;
+    row = c.row;
+    col = c.col;
+    ground_mm = c.ground_mm;
+  }
 };
 
 struct LaserDotResult {
