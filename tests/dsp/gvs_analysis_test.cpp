@@ -100,6 +100,43 @@ TEST(GvsStillCheck, TheSameGroundIsStillAMovedOneIsNot) {
   EXPECT_GT(not_still.ratio, set.still_ratio);
 }
 
+// The ratio alone (StillCheck::ratio): 0 for the same ground whatever the
+// light's gain, about 1 for other ground, also when both frames share the
+// ring light's fall-off (the light's shape is no likeness of the ground).
+TEST(Standstill, TheRatioIsWhatIsLeftOfTheFrameOnceThePreviousOneAndTheSmoothLightAreTakenOut) {
+  const GvsEstimatorSettings set;
+  cv::Mat ground(384, 512, CV_8UC1);
+  cv::Mat other(384, 512, CV_8UC1);
+  cv::theRNG().state = 7;
+  cv::randu(ground, 40, 120);
+  cv::randu(other, 40, 120);
+  PreviousFrame previous;
+  const auto ratio = [&](const cv::Mat& before, const cv::Mat& now) {
+    previous.gray = before;
+    previous.mean_grey = cv::mean(before)[0];
+    return check_still(now, cv::mean(now)[0], previous, set).ratio;
+  };
+  EXPECT_EQ(ratio(ground, ground), 0.0);
+  const cv::Mat brighter = 2 * ground;  // twice the light, nothing clipped
+  EXPECT_NEAR(ratio(ground, brighter), 0.0, 1e-12);
+  // Other ground of the same contrast: the two frames' variances add, over twice one.
+  EXPECT_NEAR(ratio(ground, other), 1.0, 0.03);
+  // Faint ground (20 grey levels) under a fall-off of 60 grey levels from
+  // the centre, the same in both frames: most of each frame's variance.
+  const auto lit = [](const cv::Mat& texture) {
+    cv::Mat out(texture.size(), CV_8UC1);
+    for (int r = 0; r < out.rows; ++r) {
+      for (int c = 0; c < out.cols; ++c) {
+        const double r2 = (std::pow(r - 192.0, 2) + std::pow(c - 256.0, 2)) / (320.0 * 320.0);
+        out.at<std::uint8_t>(r, c) = cv::saturate_cast<std::uint8_t>(texture.at<std::uint8_t>(r, c) / 4 + 60.0 * (1.0 - r2));
+      }
+    }
+    return out;
+  };
+  EXPECT_GT(ratio(lit(ground), lit(other)), 0.8);
+  EXPECT_LT(ratio(lit(ground), lit(ground)), 1e-12);
+}
+
 TEST(GvsPairAnalysis, TheShiftBetweenFramesGivesTheSignedVelocity) {
   const GvsEstimatorSettings set;
   Scene scene;

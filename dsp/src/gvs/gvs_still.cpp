@@ -25,41 +25,51 @@ double detrended_difference_ratio(const cv::Mat& gray, const cv::Mat& previous, 
   // 0.09 with it (alike) and 0.68 without; standing frames of every
   // photograph and light level read 0.002-0.04 without it. Steps between
   // pixels and stones up to the block's size stay.
+  //
+  // One pass of whole-number sums per block: with n samples, sums S1, S0
+  // of the two frames' grey levels and S11, S00, S10 of their products,
+  //   n sum (h1 - k h0)^2 = V11 - 2 k V10 + k^2 V00,   n sum h1^2 = V11,
+  // where V11 = n S11 - S1^2, V10 = n S10 - S1 S0, V00 = n S00 - S0^2 are
+  // exact in 64-bit integers (a block holds at most 64 samples).
   constexpr int kBlockPx = 16;
   constexpr int kMaxBlocks = 256;  // 4096 px wide
+  struct BlockSums {
+    std::int64_t n, s1, s0, s11, s00, s10;
+  };
   const int blocks = std::min((gray.cols + kBlockPx - 1) / kBlockPx, kMaxBlocks);
-  std::array<std::int64_t, kMaxBlocks> sum1{};
-  std::array<std::int64_t, kMaxBlocks> sum0{};
-  std::array<std::int64_t, kMaxBlocks> count{};
+  std::array<BlockSums, kMaxBlocks> sums{};
   double diff_sq = 0.0;
   double power = 0.0;
   for (int band = 0; band < gray.rows; band += kBlockPx) {
     const int band_end = std::min(band + kBlockPx, gray.rows - 1);  // r + 1 < rows, as check_still
-    std::fill(sum1.begin(), sum1.end(), 0);
-    std::fill(sum0.begin(), sum0.end(), 0);
-    std::fill(count.begin(), count.end(), 0);
+    std::fill(sums.begin(), sums.begin() + blocks, BlockSums{});
     for (int r = band; r < band_end; r += 2) {
       const auto* g1 = gray.ptr<std::uint8_t>(r);
       const auto* g0 = previous.ptr<std::uint8_t>(r);
-      for (int c = 0; c + 1 < gray.cols && c / kBlockPx < blocks; c += 2) {
-        const auto b = static_cast<std::size_t>(c / kBlockPx);
-        sum1[b] += g1[c];
-        sum0[b] += g0[c];
-        ++count[b];
+      for (int b = 0; b < blocks; ++b) {
+        BlockSums& bs = sums[static_cast<std::size_t>(b)];
+        const int c_end = std::min((b + 1) * kBlockPx, gray.cols - 1);  // c + 1 < cols
+        for (int c = b * kBlockPx; c < c_end; c += 2) {
+          const std::int64_t a1 = g1[c];
+          const std::int64_t a0 = g0[c];
+          bs.n += 1;
+          bs.s1 += a1;
+          bs.s0 += a0;
+          bs.s11 += a1 * a1;
+          bs.s00 += a0 * a0;
+          bs.s10 += a1 * a0;
+        }
       }
     }
-    for (int r = band; r < band_end; r += 2) {
-      const auto* g1 = gray.ptr<std::uint8_t>(r);
-      const auto* g0 = previous.ptr<std::uint8_t>(r);
-      for (int c = 0; c + 1 < gray.cols && c / kBlockPx < blocks; c += 2) {
-        const auto b = static_cast<std::size_t>(c / kBlockPx);
-        const double m = static_cast<double>(count[b]);
-        const double h1 = g1[c] - static_cast<double>(sum1[b]) / m;
-        const double h0 = g0[c] - static_cast<double>(sum0[b]) / m;
-        const double d = h1 - k * h0;
-        diff_sq += d * d;
-        power += h1 * h1;
-      }
+    for (int b = 0; b < blocks; ++b) {
+      const BlockSums& bs = sums[static_cast<std::size_t>(b)];
+      if (bs.n == 0) continue;
+      const auto v11 = static_cast<double>(bs.n * bs.s11 - bs.s1 * bs.s1);
+      const auto v10 = static_cast<double>(bs.n * bs.s10 - bs.s1 * bs.s0);
+      const auto v00 = static_cast<double>(bs.n * bs.s00 - bs.s0 * bs.s0);
+      const auto n = static_cast<double>(bs.n);
+      diff_sq += (v11 - 2.0 * k * v10 + k * k * v00) / n;
+      power += v11 / n;
     }
   }
   return power > 0.0 ? diff_sq / (2.0 * power) : 1e9;
