@@ -38,6 +38,7 @@ void apply_ride(const core::RideHeight& ride, double nominal_height_mm, bool cor
 
 void FrameProcessor::reset() noexcept {
   estimator_->reset();
+  if (finder_) finder_->forget();
   have_previous_ = false;
 }
 
@@ -62,7 +63,7 @@ core::VelocityEstimate FrameProcessor::process(const core::FrameView& frame) {
   // hide them from the estimator.
   core::FrameView view = frame;
   if (finder_) {
-    dots_ = finder_->find(frame.gray);
+    dots_ = finder_->find(frame.gray, core::mid_exposure_ns(frame.t_ns, frame.exposure), frame.exposure.exposure_us);
     frame.gray.copyTo(masked_);
     finder_->mask(dots_, masked_);
     view.gray = masked_;

@@ -53,6 +53,7 @@ LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nomina
     t.col0 = c0;
     t.er = (r1 - r0) / length;
     t.ec = (c1 - c0) / length;
+    t.px_per_mm_height = length / (h1 - h0);
     // The spot: Gaussian of the beam's sigma, stretched by 1 / cos(tilt)
     // along the track (oblique incidence), blurred by the optics.
     const double sigma_px = lasers.spot_sigma_mm / camera.mm_per_px;
@@ -88,8 +89,20 @@ LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nomina
   for (std::size_t k = 0; k < lasers.count; ++k) {
     responses_[k].resize(longest);
     backgrounds_[k].resize(longest);
+    last_responses_[k].resize(longest);
+    brightening_[k].resize(longest);
   }
   scratch_.resize(longest);
+}
+
+void LaserDotFinder::robust_spread(const std::vector<double>& values, std::size_t n, double& median, double& spread) {
+  std::copy(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n), scratch_.begin());
+  const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
+  median = *mid;
+  for (std::size_t i = 0; i < n; ++i) scratch_[i] = std::abs(values[i] - median);
+  std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
+  spread = 1.4826 * *mid;
 }
 
 double LaserDotFinder::response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const {
@@ -114,13 +127,9 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
   }
   // 2. Is it clearly there? Robust spread of the track's responses (median
   //    absolute deviation: the asphalt's texture and the sensor's noise).
-  std::copy(resp.begin(), resp.begin() + static_cast<std::ptrdiff_t>(n), scratch_.begin());
-  const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(n / 2);
-  std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
-  const double median = *mid;
-  for (std::size_t i = 0; i < n; ++i) scratch_[i] = std::abs(resp[i] - median);
-  std::nth_element(scratch_.begin(), mid, scratch_.begin() + static_cast<std::ptrdiff_t>(n));
-  const double spread = 1.4826 * *mid;
+  double median = 0.0;
+  double spread = 0.0;
+  robust_spread(resp, n, median, spread);
   median_[k] = median;
   spread_[k] = spread;
   const double peak = resp[best] - median;
@@ -217,6 +226,27 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
   if (lasers_.count >= 3) resolve(gray, out);
   for (std::size_t k = 0; k < lasers_.count; ++k)
     if (out.dots[k].found) ++out.found;
+  return out;
+}
+
+LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, double exposure_us) {
+  LaserDotResult out = find(gray);
+  const double age_s = static_cast<double>(t_ns - prior_t_ns_) * 1e-9;
+  if (has_prior_ && !(age_s > 0.0 && age_s <= thresholds_.max_prior_age_s)) has_prior_ = false;
+  const double since_last_s = static_cast<double>(t_ns - last_responses_t_ns_) * 1e-9;
+  const bool last_frame = has_last_responses_ && since_last_s > 0.0 && since_last_s <= thresholds_.max_prior_age_s;
+  if (!out.ride.has_height && has_prior_ && last_frame && lasers_.count == 4) {
+    near_the_last_plane(gray, age_s, exposure_us, out);
+    if (out.ride.has_height) {
+      out.found = 0;
+      for (std::size_t k = 0; k < lasers_.count; ++k)
+        if (out.dots[k].found) ++out.found;
+    }
+  }
+  if (out.ride.has_height && out.ride.has_tilt) remember_plane(out, t_ns);
+  for (std::size_t k = 0; k < lasers_.count; ++k) std::copy(responses_[k].begin(), responses_[k].end(), last_responses_[k].begin());
+  has_last_responses_ = true;
+  last_responses_t_ns_ = t_ns;
   return out;
 }
 

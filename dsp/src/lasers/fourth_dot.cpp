@@ -15,20 +15,6 @@
 namespace gvs::dsp {
 namespace {
 
-/// Where a beam meets the plane through p1, p2, p3 (head axes); false if
-/// it runs along the plane.
-bool beam_on_plane(const core::LaserBeam& beam, const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
-                   core::Vec3& point_mm) {
-  const core::Vec3 n = core::cross(p2 - p1, p3 - p1);
-  const core::Vec3 o = beam.origin_mm();
-  const core::Vec3 u = beam.direction();
-  const double nu = core::dot(n, u);
-  if (!(std::abs(nu) > 1e-9 * std::sqrt(core::dot(n, n)))) return false;
-  const double t = core::dot(n, p1 - o) / nu;
-  point_mm = o + t * u;
-  return t > 0.0;
-}
-
 /// Samples either side of the predicted one searched for the dot: the
 /// three dots' scatter moves the prediction by well under a pixel, a plane
 /// tilted by max_tilt_deg through wrong dots by several.

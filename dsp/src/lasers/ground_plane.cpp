@@ -19,6 +19,18 @@ bool triangulate(const core::LaserBeam& beam, core::Vec3 sight, core::Vec3& poin
   return t > 0.0;
 }
 
+bool beam_on_plane(const core::LaserBeam& beam, const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
+                   core::Vec3& point_mm) {
+  const core::Vec3 n = core::cross(p2 - p1, p3 - p1);
+  const core::Vec3 o = beam.origin_mm();
+  const core::Vec3 u = beam.direction();
+  const double nu = core::dot(n, u);
+  if (!(std::abs(nu) > 1e-9 * std::sqrt(core::dot(n, n)))) return false;
+  const double t = core::dot(n, p1 - o) / nu;
+  point_mm = o + t * u;
+  return t > 0.0;
+}
+
 namespace {
 
 /// Height where the optical axis meets the plane through `p` with unit

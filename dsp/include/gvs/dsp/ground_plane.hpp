@@ -48,6 +48,12 @@ namespace gvs::dsp {
 /// axes). False when the two lines are (nearly) parallel.
 bool triangulate(const core::LaserBeam& beam, core::Vec3 sight, core::Vec3& point_mm);
 
+/// Where beam `beam` meets the plane through p1, p2, p3 (head axes): the
+/// point O + t u with n.(O + t u - p1) = 0, n = (p2 - p1) x (p3 - p1).
+/// False when the beam runs along the plane or meets it behind its origin.
+bool beam_on_plane(const core::LaserBeam& beam, const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
+                   core::Vec3& point_mm);
+
 /// Height at the optical axis and the ground's pitch and roll (vehicle
 /// axes, ISO 8855) from three ground points in head axes. has_height and
 /// has_tilt stay false when the points are (nearly) in a line.

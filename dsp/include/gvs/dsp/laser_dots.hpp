@@ -10,7 +10,10 @@
 // gives a wrong height (docs/estimator.md, "Wrong dots"); a fourth beam
 // checks the plane (the four must agree) and stands in for a dot not found,
 // and where no plane of the brightest spots holds, a plane of three is
-// checked by a fourth dot found where they put it, not the track's brightest.
+// checked by a fourth dot found where they put it, not the track's brightest;
+// failing that (a standing car over grains as bright as a dot), the four
+// dots are looked for where they brightened since the last frame, moved
+// together by the body's heave from where the last plane put them.
 //
 // Pure: no I/O, threads or clocks; every buffer is made in the constructor.
 #pragma once
@@ -79,7 +82,15 @@ class LaserDotFinder {
   LaserDotFinder(const core::CameraGeometry& camera, double nominal_height_mm, const core::LaserGeometry& lasers);
 
   /// Finds the dots in `gray` (CV_8UC1 of the camera's size). No allocation.
+  /// Each frame on its own: no step 5.
   LaserDotResult find(const cv::Mat& gray);
+  /// The same for a frame of a sequence taken at `t_ns` (the middle of its
+  /// light, which lasts `exposure_us` from first to last): where no plane
+  /// holds, step 5 looks for the dots near the last plane found within
+  /// Thresholds::max_prior_age_s; each plane found is kept for the next
+  /// frames. forget() drops it (a gap, a reset).
+  LaserDotResult find(const cv::Mat& gray, std::int64_t t_ns, double exposure_us);
+  void forget() { has_prior_ = has_last_responses_ = false; }
   /// Blends the dots (and bright rivals on their tracks) of `result` into the
   /// ground beside them, in place, so that the velocity estimators do not
   /// see spots that move with the height instead of the ground.
@@ -107,6 +118,19 @@ class LaserDotFinder {
     /// symmetric dots each residual is a quarter of one dot's error, so a
     /// dot 0.4 mm off its ground (4 px along its track) is caught.
     double max_plane_residual_mm = 0.1;
+    /// Step 5: how fast the camera's height may change, mm/s: a kerb strike
+    /// lifts it by about 10 mm in 50 ms (200 mm/s on average, some 300 at
+    /// its fastest); the dots are looked for within what this allows since
+    /// the last plane, plus prior_margin_mm for the tilt's change.
+    double max_height_rate_mm_per_s = 400.0;
+    double prior_margin_mm = 0.5;
+    /// A plane older than this is no guide, s (six frames at 60 fps).
+    double max_prior_age_s = 0.1;
+    /// Step 5 takes no dot smeared along its track by more than this many
+    /// spot sigmas: the height changing fast within the exposure (a kerb
+    /// strike under 3 ms of light: 6 px) moves its centroid off the middle
+    /// of the light by an unknown share.
+    double max_smear_sigmas = 2.0;
   };
   [[nodiscard]] const Thresholds& thresholds() const { return thresholds_; }
   void set_thresholds(const Thresholds& t) { thresholds_ = t; }
@@ -121,12 +145,17 @@ class LaserDotFinder {
     double row0 = 0.0, col0 = 0.0;  ///< the line: (row0, col0) + u (er, ec)
     double er = 1.0, ec = 0.0;
     double sigma_along_px = 1.0, sigma_across_px = 1.0;
+    double px_per_mm_height = 10.0;  ///< along the track, per mm of level ground's height
     std::vector<Offset> inner, side, window;  ///< the spot, the ring around it, the centroid's window
   };
   void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
   DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
   void resolve(const cv::Mat& gray, LaserDotResult& out) const;
   void fourth_where_three_put_it(const cv::Mat& gray, LaserDotResult& out) const;
+  void near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out);
+  /// Median and 1.4826 MAD of values[0 .. n) (scratch_ is overwritten).
+  void robust_spread(const std::vector<double>& values, std::size_t n, double& median, double& spread);
+  void remember_plane(const LaserDotResult& out, std::int64_t t_ns);
   [[nodiscard]] bool plausible(const core::RideHeight& ride) const;
   double response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const;
 
@@ -139,6 +168,14 @@ class LaserDotFinder {
   std::array<double, core::LaserGeometry::kMaxBeams> median_{}, spread_{};
   std::vector<double> scratch_;
   Thresholds thresholds_;
+  /// Step 5's guide: where the last plane put each dot (px along its track) and when.
+  bool has_prior_ = false;
+  std::array<double, core::LaserGeometry::kMaxBeams> prior_along_px_{};
+  std::int64_t prior_t_ns_ = 0;
+  /// The responses along each track in the last frame of the sequence.
+  bool has_last_responses_ = false;
+  std::int64_t last_responses_t_ns_ = 0;
+  std::array<std::vector<double>, core::LaserGeometry::kMaxBeams> last_responses_, brightening_;
 };
 
 }  // namespace gvs::dsp

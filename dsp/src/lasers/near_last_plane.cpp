@@ -1,0 +1,139 @@
+// The dots near where the last plane put them (docs/estimator.md, "Height
+// from the laser dots", step 5): a standing car on sharp asphalt shows
+// white grains as bright and as small as a dot on every track, so that no
+// plane of this frame's brightest spots holds. The ground under a standing
+// car does not move, so a grain is as bright as it was in the last frame,
+// while the dots move with the body: along each track, what brightened
+// since the last frame (this frame's response less the last one's) shows
+// the dots where they are now. The body's heave moves all four together,
+// by the same height (the tilt changes little in a frame): the height
+// change that lines up the four brightenings best, within what
+// Thresholds::max_height_rate_mm_per_s allows since the last plane, gives
+// each dot's place. Each must stand out there as a dot does in step 2, by
+// its brightening too, and the four must agree on one plane as four found
+// dots do; a grain taken for a dot by step 2 is masked beside it. Not where
+// the height changed so fast that the dots smeared along their tracks
+// within the exposure (Thresholds::max_smear_sigmas).
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "gvs/dsp/ground_plane.hpp"
+#include "gvs/dsp/laser_dots.hpp"
+
+namespace gvs::dsp {
+namespace {
+
+/// Samples either side of where the height change puts a dot: the tilt's
+/// change within a frame and the rounding.
+constexpr long kSideSamples = 2;
+
+}  // namespace
+
+void LaserDotFinder::remember_plane(const LaserDotResult& out, std::int64_t t_ns) {
+  // Three found dots fix the plane; a beam whose dot was not found meets it there.
+  std::array<core::Vec3, 3> p{};
+  std::size_t m = 0;
+  for (std::size_t k = 0; k < lasers_.count && m < 3; ++k)
+    if (out.dots[k].found) p[m++] = out.dots[k].ground_mm;
+  has_prior_ = false;
+  if (m < 3) return;
+  for (std::size_t k = 0; k < lasers_.count; ++k) {
+    const LaserDot& d = out.dots[k];
+    double row = d.row, col = d.col;
+    if (!d.found) {
+      core::Vec3 point;
+      if (!beam_on_plane(lasers_.beams[k], p[0], p[1], p[2], point) || !(point.z < 0.0)) return;
+      core::head_to_pixel(camera_, nominal_height_mm_, point, row, col);
+    }
+    const Track& t = tracks_[k];
+    prior_along_px_[k] = (row - t.row[0]) * t.er + (col - t.col[0]) * t.ec;  // samples are 1 px apart
+  }
+  has_prior_ = true;
+  prior_t_ns_ = t_ns;
+}
+
+void LaserDotFinder::near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out) {
+  constexpr std::size_t kBeams = 4;
+  // The brightening along each track, and its median and robust spread.
+  std::array<double, kBeams> median{}, spread{};
+  for (std::size_t k = 0; k < kBeams; ++k) {
+    const std::size_t n = tracks_[k].row.size();
+    for (std::size_t i = 0; i < n; ++i) brightening_[k][i] = responses_[k][i] - last_responses_[k][i];
+    robust_spread(brightening_[k], n, median[k], spread[k]);
+  }
+  const auto brightening_at = [&](std::size_t k, double along, std::size_t& sample) {
+    const auto n = static_cast<long>(tracks_[k].row.size());
+    const long centre = std::lround(along);
+    double best = -1e300;
+    for (long i = std::max(0L, centre - kSideSamples); i <= std::min(n - 1, centre + kSideSamples); ++i) {
+      if (brightening_[k][static_cast<std::size_t>(i)] > best) {
+        best = brightening_[k][static_cast<std::size_t>(i)];
+        sample = static_cast<std::size_t>(i);
+      }
+    }
+    return best;
+  };
+  // The height change that lines up the four brightenings best, in steps
+  // of half a pixel along the tracks.
+  const double reach_mm = thresholds_.max_height_rate_mm_per_s * age_s + thresholds_.prior_margin_mm;
+  double px_per_mm = 0.0;
+  for (std::size_t k = 0; k < kBeams; ++k) px_per_mm = std::max(px_per_mm, tracks_[k].px_per_mm_height);
+  const double step_mm = 0.5 / px_per_mm;
+  double best_score = -1e300;
+  double best_dh_mm = 0.0;
+  for (double dh = -reach_mm; dh <= reach_mm; dh += step_mm) {
+    double score = 0.0;
+    for (std::size_t k = 0; k < kBeams; ++k) {
+      std::size_t sample = 0;
+      score += brightening_at(k, prior_along_px_[k] + dh * tracks_[k].px_per_mm_height, sample);
+    }
+    if (score > best_score) {
+      best_score = score;
+      best_dh_mm = dh;
+    }
+  }
+  // How far each dot ran along its track while the light lasted, at the
+  // rate the height changed since the last plane.
+  const double rate_mm_per_us = std::abs(best_dh_mm) / (age_s * 1e6);
+  for (std::size_t k = 0; k < kBeams; ++k) {
+    const Track& t = tracks_[k];
+    if (rate_mm_per_us * exposure_us * t.px_per_mm_height > thresholds_.max_smear_sigmas * t.sigma_along_px) return;
+  }
+  std::array<Candidate, kBeams> dot{};
+  std::array<std::size_t, kBeams> sample{};
+  std::array<core::Vec3, kBeams> p{};
+  for (std::size_t k = 0; k < kBeams; ++k) {
+    const double brightened = brightening_at(k, prior_along_px_[k] + best_dh_mm * tracks_[k].px_per_mm_height, sample[k]);
+    // A dot by step 2's contrast, newly there by step 2's sigmas.
+    const bool appeared = responses_[k][sample[k]] >= thresholds_.min_contrast_dn &&
+                          brightened - median[k] >= thresholds_.min_sigmas * spread[k];
+    if (!appeared || measure(gray, k, sample[k], dot[k]) != DotStatus::found) return;
+    p[k] = dot[k].ground_mm;
+  }
+  double residual_mm = 0.0;
+  const core::RideHeight ride = ground_from_fit(p.data(), kBeams, camera_.mount_yaw_deg, residual_mm);
+  if (residual_mm > thresholds_.max_plane_residual_mm || !plausible(ride)) return;
+  const auto near = [](double r0, double c0, const Candidate& c) { return std::hypot(r0 - c.row, c0 - c.col) <= 2.0; };
+  for (std::size_t k = 0; k < kBeams; ++k) {
+    LaserDot& d = out.dots[k];
+    // What step 2 took for this dot elsewhere is a grain: masked still,
+    // as the rival, where that slot is free or held by the dot itself.
+    if (d.masked && !near(d.mask_row, d.mask_col, dot[k]) && (!d.rival || near(d.rival_row, d.rival_col, dot[k]))) {
+      d.rival = true;
+      d.rival_row = d.mask_row;
+      d.rival_col = d.mask_col;
+      d.rival_background_dn = d.mask_background_dn;
+    }
+    d.masked = true;
+    d.mask_row = dot[k].row;
+    d.mask_col = dot[k].col;
+    d.mask_background_dn = backgrounds_[k][sample[k]];
+    d.contrast_dn = responses_[k][sample[k]];
+    d.peak_sigmas = spread_[k] > 0.0 ? (d.contrast_dn - median_[k]) / spread_[k] : 0.0;
+    d.take(dot[k]);
+  }
+  out.ride = ride;
+}
+
+}  // namespace gvs::dsp
