@@ -10,6 +10,7 @@
 // Working in the frequency domain with the exact k, inside a circular band,
 // avoids the angle bias of finite-difference gradients on a square grid.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -67,22 +68,23 @@ StreakAxis BlurAnalyzer::streak_axis(const cv::Mat& spectrum, const RingGain* ga
     const double kr = k_row_[static_cast<std::size_t>(r)];
     const float* w = band_.ptr<float>(r);
     const auto* rings = ring_.ptr<std::uint8_t>(r);
-    double a_rr = 0.0;
-    double a_cc = 0.0;
-    double a_rc = 0.0;
-    detail::for_each_half_power(spectrum, r, 0, spectrum.cols, [&](int c, float power, double m) {
+    // Two lanes of running sums (for_each_half_power_2lanes).
+    std::array<double, 2> a_rr{}, a_cc{}, a_rc{}, row_signal{}, row_noise{};
+    detail::for_each_half_power_2lanes(spectrum, r, 0, spectrum.cols, [&](int c, float power, double m, auto lane) {
       const double kc = k_col_[static_cast<std::size_t>(c)];
       const double band_power = m * static_cast<double>(w[c]) * (static_cast<double>(power) - n0);
       const double p = gain_at(gain, rings, c) * band_power;
-      a_cc += p * kc * kc;
-      a_rc += p * kc;
-      a_rr += p;
-      signal += band_power;  // the SNR without the gain
-      noise += m * static_cast<double>(w[c]) * n0;
+      a_cc[lane] += p * kc * kc;
+      a_rc[lane] += p * kc;
+      a_rr[lane] += p;
+      row_signal[lane] += band_power;  // the SNR without the gain
+      row_noise[lane] += m * static_cast<double>(w[c]) * n0;
     });
-    m_rr += a_rr * kr * kr;
-    m_rc += a_rc * kr;
-    m_cc += a_cc;
+    m_rr += (a_rr[0] + a_rr[1]) * kr * kr;
+    m_rc += (a_rc[0] + a_rc[1]) * kr;
+    m_cc += a_cc[0] + a_cc[1];
+    signal += row_signal[0] + row_signal[1];
+    noise += row_noise[0] + row_noise[1];
   }
   StreakAxis axis;
   axis.texture_snr = noise > 0.0 ? signal / noise : 1e9;

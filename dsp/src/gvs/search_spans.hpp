@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <opencv2/core/mat.hpp>
 
@@ -104,6 +105,38 @@ void for_each_half_power(const cv::Mat& spectrum, int r, int begin, int end, F&&
   const int interior_stop = cols % 2 == 0 ? std::min(stop, last) : stop;
   for (; c < interior_stop; ++c) f(c, power(c), 2.0);
   if (c == last && c < stop) f(c, power(c), 1.0);
+}
+
+/// for_each_half_power() with two lanes: f(c, |X(r, c)|^2, m, lane) where
+/// lane (a std::integral_constant, 0 or 1) alternates between consecutive
+/// interior columns, so that f can keep two sets of running sums whose adds
+/// do not wait for each other (a sum in double over a row is otherwise one
+/// add after another). The caller adds the lanes; the total differs from
+/// one lane's only in rounding.
+template <class F>
+void for_each_half_power_2lanes(const cv::Mat& spectrum, int r, int begin, int end, F&& f) {
+  constexpr std::integral_constant<std::size_t, 0> lane0{};
+  constexpr std::integral_constant<std::size_t, 1> lane1{};
+  const int cols = spectrum.cols;
+  const int last = cols / 2;
+  const int stop = std::min(end, last + 1);
+  const auto* x = spectrum.ptr<cv::Vec2f>(r);
+  const auto power = [x](int c) { return x[c][0] * x[c][0] + x[c][1] * x[c][1]; };
+  int c = std::max(begin, 0);
+  if (c == 0 && c < stop) {
+    f(0, power(0), 1.0, lane0);
+    ++c;
+  }
+  const int interior_stop = cols % 2 == 0 ? std::min(stop, last) : stop;
+  for (; c + 1 < interior_stop; c += 2) {
+    f(c, power(c), 2.0, lane0);
+    f(c + 1, power(c + 1), 2.0, lane1);
+  }
+  if (c < interior_stop) {
+    f(c, power(c), 2.0, lane0);
+    ++c;
+  }
+  if (c == last && c < stop) f(c, power(c), 1.0, lane1);
 }
 
 /// for_each_half_power() over the strip_columns() of a row: the columns
