@@ -315,26 +315,36 @@ TEST(LaserDots, TheFourthDotRefusesABrightGrainTakenForADot) {
   EXPECT_FALSE(finder3.find(far).ride.has_height);
 }
 
+/// `gray` with white grains (255, 2 px, a ring of `background` around) at
+/// `grains` and the dots within 5 px of `dimmed` dimmed to `gain` of their
+/// contrast over `background`.
+cv::Mat with_grains(const cv::Mat& gray, const std::vector<std::array<double, 2>>& grains,
+                    const std::vector<const LaserDot*>& dimmed, double gain, double background) {
+  cv::Mat out = gray.clone();
+  for (int r = 0; r < out.rows; ++r) {
+    for (int cc = 0; cc < out.cols; ++cc) {
+      double v = out.at<std::uint8_t>(r, cc);
+      for (const LaserDot* d : dimmed)
+        if (std::hypot(r - d->row, cc - d->col) <= 5.0) v = background + (v - background) * gain;
+      for (const auto& [gr, gc] : grains) {
+        const double d_grain = std::hypot(r - gr, cc - gc);
+        if (d_grain <= 2.0) v = 255.0;
+        else if (d_grain <= 5.0) v = background;
+      }
+      out.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    }
+  }
+  return out;
+}
+
 /// `gray` with the spot of dot `k` scaled by `dot_gain` over its ground and
 /// a white grain (a 2 px disc at 255 on the dot's ground) on its track
 /// `shift_px` further along.
 cv::Mat with_grain_on_track(const drivers::SimulatorConfig& c, const cv::Mat& gray, const LaserDot& dot, std::size_t k,
                             double shift_px, double dot_gain) {
-  double row = 0.0, col = 0.0;
-  along_track(c, dot, k, shift_px, row, col);
-  cv::Mat out = gray.clone();
-  const double background = dot.mask_background_dn;
-  for (int r = 0; r < out.rows; ++r) {
-    for (int cc = 0; cc < out.cols; ++cc) {
-      double v = out.at<std::uint8_t>(r, cc);
-      if (std::hypot(r - dot.row, cc - dot.col) <= 5.0) v = background + (v - background) * dot_gain;
-      const double d_grain = std::hypot(r - row, cc - col);
-      if (d_grain <= 2.0) v = 255.0;
-      else if (d_grain <= 5.0) v = background;
-      out.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-    }
-  }
-  return out;
+  std::array<double, 2> grain{};
+  along_track(c, dot, k, shift_px, grain[0], grain[1]);
+  return with_grains(gray, {grain}, {&dot}, dot_gain, dot.mask_background_dn);
 }
 
 TEST(LaserDots, TheFourthDotIsFoundWhereTheOtherThreePutItUnderABrighterGrain) {
@@ -376,28 +386,6 @@ TEST(LaserDots, TheFourthDotIsFoundWhereTheOtherThreePutItUnderABrighterGrain) {
       if (std::hypot(r - clean.dots[3].row, cc - clean.dots[3].col) <= 5.0)
         blotted.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::lround(clean.dots[3].mask_background_dn));
   EXPECT_FALSE(finder.find(blotted).ride.has_height);
-}
-
-/// `gray` with white grains (255, 2 px, a ring of `background` around) at
-/// `grains` and the dots within 5 px of `dimmed` dimmed to `gain` of their
-/// contrast over `background`.
-cv::Mat with_grains(const cv::Mat& gray, const std::vector<std::array<double, 2>>& grains,
-                    const std::vector<const LaserDot*>& dimmed, double gain, double background) {
-  cv::Mat out = gray.clone();
-  for (int r = 0; r < out.rows; ++r) {
-    for (int cc = 0; cc < out.cols; ++cc) {
-      double v = out.at<std::uint8_t>(r, cc);
-      for (const LaserDot* d : dimmed)
-        if (std::hypot(r - d->row, cc - d->col) <= 5.0) v = background + (v - background) * gain;
-      for (const auto& [gr, gc] : grains) {
-        const double d_grain = std::hypot(r - gr, cc - gc);
-        if (d_grain <= 2.0) v = 255.0;
-        else if (d_grain <= 5.0) v = background;
-      }
-      out.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-    }
-  }
-  return out;
 }
 
 TEST(LaserDots, AStandingCarsDotsAreFoundWhereTheyBrightenedMovedTogetherFromTheLastPlane) {
