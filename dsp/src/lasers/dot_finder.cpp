@@ -214,6 +214,23 @@ DotStatus LaserDotFinder::measure(const cv::Mat& gray, std::size_t k, std::size_
   return DotStatus::found;
 }
 
+void LaserDotFinder::take_at(std::size_t k, std::size_t sample, const Candidate& c, LaserDot& d) const {
+  const auto near = [&c](double row, double col) { return std::hypot(row - c.row, col - c.col) <= 2.0; };
+  if (d.masked && !near(d.mask_row, d.mask_col) && (!d.rival || near(d.rival_row, d.rival_col))) {
+    d.rival = true;
+    d.rival_row = d.mask_row;
+    d.rival_col = d.mask_col;
+    d.rival_background_dn = d.mask_background_dn;
+  }
+  d.masked = true;
+  d.mask_row = c.row;
+  d.mask_col = c.col;
+  d.mask_background_dn = backgrounds_[k][sample];
+  d.contrast_dn = responses_[k][sample];
+  d.peak_sigmas = spread_[k] > 0.0 ? (d.contrast_dn - median_[k]) / spread_[k] : 0.0;
+  d.take(c);
+}
+
 bool LaserDotFinder::plausible(const core::RideHeight& ride) const {
   return ride.has_height && ride.height_mm >= lasers_.min_height_mm && ride.height_mm <= lasers_.max_height_mm &&
          std::abs(ride.pitch_deg) <= thresholds_.max_tilt_deg && std::abs(ride.roll_deg) <= thresholds_.max_tilt_deg;

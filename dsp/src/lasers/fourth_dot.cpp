@@ -63,7 +63,7 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
       double row = 0.0, col = 0.0;
       core::head_to_pixel(camera_, nominal_height_mm_, predicted, row, col);
       // The predicted sample: samples are 1 px apart along the track.
-      const double along = (row - t.row[0]) * t.er + (col - t.col[0]) * t.ec;
+      const double along = t.along_px(row, col);
       const long centre = std::lround(along);
       if (centre < 0 || centre >= static_cast<long>(n)) continue;
       const long last = std::min(static_cast<long>(n) - 1, centre + kSearchSamples);
@@ -97,19 +97,7 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
       if (!d.found) d.take(d.candidates[first.pick[k]]);
       continue;
     }
-    if (d.masked) {  // what was taken for this dot: a grain, masked still
-      d.rival = true;
-      d.rival_row = d.mask_row;
-      d.rival_col = d.mask_col;
-      d.rival_background_dn = d.mask_background_dn;
-    }
-    d.masked = true;
-    d.mask_row = first.dot.row;
-    d.mask_col = first.dot.col;
-    d.mask_background_dn = backgrounds_[k][first.sample];
-    d.contrast_dn = responses_[k][first.sample];
-    d.peak_sigmas = spread_[k] > 0.0 ? (d.contrast_dn - median_[k]) / spread_[k] : 0.0;
-    d.take(first.dot);
+    take_at(k, first.sample, first.dot, d);
   }
   out.ride = first.ride;
 }

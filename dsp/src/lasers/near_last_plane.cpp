@@ -46,8 +46,7 @@ void LaserDotFinder::remember_plane(const LaserDotResult& out, std::int64_t t_ns
       if (!beam_on_plane(lasers_.beams[k], p[0], p[1], p[2], point) || !(point.z < 0.0)) return;
       core::head_to_pixel(camera_, nominal_height_mm_, point, row, col);
     }
-    const Track& t = tracks_[k];
-    prior_along_px_[k] = (row - t.row[0]) * t.er + (col - t.col[0]) * t.ec;  // samples are 1 px apart
+    prior_along_px_[k] = tracks_[k].along_px(row, col);
   }
   has_prior_ = true;
   prior_t_ns_ = t_ns;
@@ -114,25 +113,8 @@ void LaserDotFinder::near_the_last_plane(const cv::Mat& gray, double age_s, doub
   double residual_mm = 0.0;
   const core::RideHeight ride = ground_from_fit(p.data(), kBeams, camera_.mount_yaw_deg, residual_mm);
   if (residual_mm > thresholds_.max_plane_residual_mm || !plausible(ride)) return;
-  const auto near = [](double r0, double c0, const Candidate& c) { return std::hypot(r0 - c.row, c0 - c.col) <= 2.0; };
-  for (std::size_t k = 0; k < kBeams; ++k) {
-    LaserDot& d = out.dots[k];
-    // What step 2 took for this dot elsewhere is a grain: masked still,
-    // as the rival, where that slot is free or held by the dot itself.
-    if (d.masked && !near(d.mask_row, d.mask_col, dot[k]) && (!d.rival || near(d.rival_row, d.rival_col, dot[k]))) {
-      d.rival = true;
-      d.rival_row = d.mask_row;
-      d.rival_col = d.mask_col;
-      d.rival_background_dn = d.mask_background_dn;
-    }
-    d.masked = true;
-    d.mask_row = dot[k].row;
-    d.mask_col = dot[k].col;
-    d.mask_background_dn = backgrounds_[k][sample[k]];
-    d.contrast_dn = responses_[k][sample[k]];
-    d.peak_sigmas = spread_[k] > 0.0 ? (d.contrast_dn - median_[k]) / spread_[k] : 0.0;
-    d.take(dot[k]);
-  }
+  // The spot step 2 took for a dot stays masked as its rival.
+  for (std::size_t k = 0; k < kBeams; ++k) take_at(k, sample[k], dot[k], out.dots[k]);
   out.ride = ride;
 }
 

@@ -147,6 +147,10 @@ class LaserDotFinder {
     double sigma_along_px = 1.0, sigma_across_px = 1.0;
     double px_per_mm_height = 10.0;  ///< along the track, per mm of level ground's height
     std::vector<Offset> inner, side, window;  ///< the spot, the ring around it, the centroid's window
+    /// Where pixel (pixel_row, pixel_col) lies along the track, in samples (1 px apart).
+    [[nodiscard]] double along_px(double pixel_row, double pixel_col) const {
+      return (pixel_row - row[0]) * er + (pixel_col - col[0]) * ec;
+    }
   };
   void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
   DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
@@ -156,6 +160,10 @@ class LaserDotFinder {
   /// Median and 1.4826 MAD of values[0 .. n) (scratch_ is overwritten).
   void robust_spread(const std::vector<double>& values, std::size_t n, double& median, double& spread);
   void remember_plane(const LaserDotResult& out, std::int64_t t_ns);
+  /// Dot k is `c`, measured at `sample` of its track: found and masked
+  /// there. What step 2 masked elsewhere on the track (a grain taken for the
+  /// dot) stays masked, as the rival, where that slot is free or holds the dot.
+  void take_at(std::size_t k, std::size_t sample, const Candidate& c, LaserDot& d) const;
   [[nodiscard]] bool plausible(const core::RideHeight& ride) const;
   double response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const;
 
