@@ -60,11 +60,13 @@ core::VelocityEstimate FrameProcessor::process(const core::FrameView& frame) {
     return reject(frame, RejectReason::bad_exposure);
   }
   // The dots move with the height, not with the ground: find them, then
-  // hide them from the estimator.
+  // hide them from the estimator. They are found in the copy the mask goes
+  // into (the same pixels): one pass over the camera's buffer in order
+  // brings the frame into the cache for the tracks' scattered reads.
   core::FrameView view = frame;
   if (finder_) {
-    dots_ = finder_->find(frame.gray, core::mid_exposure_ns(frame.t_ns, frame.exposure), frame.exposure.exposure_us);
     frame.gray.copyTo(masked_);
+    dots_ = finder_->find(masked_, core::mid_exposure_ns(frame.t_ns, frame.exposure), frame.exposure.exposure_us);
     finder_->mask(dots_, masked_);
     view.gray = masked_;
   }

@@ -42,10 +42,10 @@ const std::vector<dsp::FrameView>* frames_or_skip(benchmark::State& state, Frame
   }
 }
 
-/// What the laser dots add per frame in dsp::FrameProcessor: finding them
-/// and masking them in a copy of the frame (the same kinds of frame, the
-/// design's three dots lit; docs/performance.md). The counter is the share
-/// of frames with a height.
+/// What the laser dots add per frame in dsp::FrameProcessor: copying the
+/// frame, finding them in the copy and masking them there, in that order
+/// (the same kinds of frame, the design's four dots lit; docs/performance.md).
+/// The counter is the share of frames with a height.
 void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
   const std::vector<dsp::FrameView>* rendered = frames_or_skip(state, bench::laser_frames_of, kind);
   if (rendered == nullptr) return;
@@ -56,8 +56,8 @@ void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
   std::int64_t n = 0, with_height = 0;
   for (auto _ : state) {
     const cv::Mat& gray = frames[static_cast<std::size_t>(n) % frames.size()].gray;
-    const dsp::LaserDotResult r = finder.find(gray);
     gray.copyTo(masked);
+    const dsp::LaserDotResult r = finder.find(masked);
     finder.mask(r, masked);
     benchmark::DoNotOptimize(masked.data);
     with_height += r.ride.has_height ? 1 : 0;

@@ -76,6 +76,26 @@ LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nomina
           t.window.push_back(off);
       }
     }
+    // One pixel's step of the spot and the ring: the offsets of the moved
+    // shape not in the old one enter, those of the old one not in the moved leave.
+    const auto minus = [](const std::vector<Offset>& a, int ar, int ac, const std::vector<Offset>& b, int br, int bc,
+                          std::vector<Offset>& out) {
+      for (const Offset& p : a) {
+        const bool in_b = std::any_of(b.begin(), b.end(), [&](const Offset& q) {
+          return q.dr + br == p.dr + ar && q.dc + bc == p.dc + ac;
+        });
+        if (!in_b) out.push_back({p.dr + ar, p.dc + ac, 0.0, 0.0});  // a pixel, not a place in the spot
+      }
+    };
+    for (int sr = -1; sr <= 1; ++sr) {
+      for (int sc2 = -1; sc2 <= 1; ++sc2) {
+        Track::Step& st = t.steps[static_cast<std::size_t>(3 * (sr + 1) + sc2 + 1)];
+        minus(t.inner, sr, sc2, t.inner, 0, 0, st.inner_in);
+        minus(t.inner, 0, 0, t.inner, sr, sc2, st.inner_out);
+        minus(t.side, sr, sc2, t.side, 0, 0, st.side_in);
+        minus(t.side, 0, 0, t.side, sr, sc2, st.side_out);
+      }
+    }
     // Samples 1 px apart whose windows lie inside the frame.
     for (double s = 0.0; s <= length; s += 1.0) {
       const double r = r0 + s * t.er, c = c0 + s * t.ec;
@@ -105,24 +125,37 @@ void LaserDotFinder::robust_spread(const std::vector<double>& values, std::size_
   spread = 1.4826 * *mid;
 }
 
-double LaserDotFinder::response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const {
-  double inner = 0.0, side = 0.0;
-  for (const Offset& o : t.inner) inner += gray.at<std::uint8_t>(r + o.dr, c + o.dc);
-  for (const Offset& o : t.side) side += gray.at<std::uint8_t>(r + o.dr, c + o.dc);
-  background = side / static_cast<double>(t.side.size());
-  return inner / static_cast<double>(t.inner.size()) - background;
-}
-
 void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot) {
   const Track& t = tracks_[k];
   const std::size_t n = t.row.size();
   std::vector<double>& resp = responses_[k];
   std::vector<double>& bgs = backgrounds_[k];
   // 1. Centre-surround along the track: mean over the spot minus the
-  //    ground around it.
+  //    ground around it. The sums are whole numbers, carried from one
+  //    sample to the next by the pixels that enter and leave (Track::steps).
+  const auto sum = [&gray](const std::vector<Offset>& offsets, int r, int c) {
+    int s = 0;
+    for (const Offset& o : offsets) s += gray.at<std::uint8_t>(r + o.dr, c + o.dc);
+    return s;
+  };
+  const auto inner_n = static_cast<double>(t.inner.size()), side_n = static_cast<double>(t.side.size());
+  int inner = 0, side = 0, last_r = 0, last_c = 0;
   std::size_t best = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    resp[i] = response(gray, t, static_cast<int>(std::lround(t.row[i])), static_cast<int>(std::lround(t.col[i])), bgs[i]);
+    const auto r = static_cast<int>(std::lround(t.row[i])), c = static_cast<int>(std::lround(t.col[i]));
+    const int dr = r - last_r, dc = c - last_c;
+    if (i == 0 || std::abs(dr) > 1 || std::abs(dc) > 1) {
+      inner = sum(t.inner, r, c);
+      side = sum(t.side, r, c);
+    } else {
+      const Track::Step& st = t.steps[static_cast<std::size_t>(3 * (dr + 1) + dc + 1)];
+      inner += sum(st.inner_in, last_r, last_c) - sum(st.inner_out, last_r, last_c);
+      side += sum(st.side_in, last_r, last_c) - sum(st.side_out, last_r, last_c);
+    }
+    last_r = r;
+    last_c = c;
+    bgs[i] = side / side_n;
+    resp[i] = inner / inner_n - bgs[i];
     if (resp[i] > resp[best]) best = i;
   }
   // 2. Is it clearly there? Robust spread of the track's responses (median

@@ -147,6 +147,14 @@ class LaserDotFinder {
     double sigma_along_px = 1.0, sigma_across_px = 1.0;
     double px_per_mm_height = 10.0;  ///< along the track, per mm of level ground's height
     std::vector<Offset> inner, side, window;  ///< the spot, the ring around it, the centroid's window
+    /// The spot and its ring moved by one pixel (dr, dc in -1..1, index
+    /// 3 (dr + 1) + dc + 1): the pixels that enter and leave each, from the
+    /// old position. Consecutive samples are at most one pixel apart, so
+    /// step 1 updates the sums instead of adding the whole spot again.
+    struct Step {
+      std::vector<Offset> inner_in, inner_out, side_in, side_out;
+    };
+    std::array<Step, 9> steps;
     /// Where pixel (pixel_row, pixel_col) lies along the track, in samples (1 px apart).
     [[nodiscard]] double along_px(double pixel_row, double pixel_col) const {
       return (pixel_row - row[0]) * er + (pixel_col - col[0]) * ec;
@@ -165,7 +173,6 @@ class LaserDotFinder {
   /// dot) stays masked, as the rival, where that slot is free or holds the dot.
   void take_at(std::size_t k, std::size_t sample, const Candidate& c, LaserDot& d) const;
   [[nodiscard]] bool plausible(const core::RideHeight& ride) const;
-  double response(const cv::Mat& gray, const Track& t, int r, int c, double& background) const;
 
   core::CameraGeometry camera_;
   double nominal_height_mm_;
