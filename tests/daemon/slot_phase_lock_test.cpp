@@ -36,31 +36,50 @@ TEST(SlotPhaseLock, LocksOnRatesThatDivideOrAreMultiplesOfTheCanRate) {
 TEST(SlotPhaseLock, FirstStepPutsTheSlotAfterThePublishAndNeverEarlier) {
   SlotPhaseLock lock(20 * kMs, 100.0, 1 * kMs, 100'000);
   EXPECT_EQ(lock.adjust(500 * kMs), 500 * kMs) << "nothing to lock to before the first estimate";
-  lock.on_estimate(493 * kMs + 300'000, 497 * kMs + 300'000);  // captured at 493.3 ms, published 4 ms later
+  // 100 fps on a grid at 3.3 ms (mod 10), each published 4 ms after its
+  // capture; the first frame reached gvsd 2.7 ms late (a cold first render).
+  std::int64_t captured = 453 * kMs + 300'000;
+  for (std::size_t k = 0; k < SlotPhaseLock::kLockAfter; ++k, captured += 10 * kMs) {
+    const std::int64_t late = k == 0 ? 2'700'000 : 0;
+    lock.on_estimate(captured + late, captured + late + 4 * kMs);
+    if (k + 1 < SlotPhaseLock::kLockAfter) {
+      EXPECT_EQ(lock.adjust(500 * kMs), 500 * kMs) << "not locked on " << k + 1 << " estimates";
+      EXPECT_FALSE(lock.locked());
+    }
+  }
   const std::int64_t next = lock.adjust(500 * kMs);
   EXPECT_TRUE(lock.locked());
   EXPECT_GE(next, 500 * kMs);
-  EXPECT_EQ((next - (493 * kMs + 300'000 + 4 * kMs + 1 * kMs)) % (10 * kMs), 0) << next;
+  EXPECT_EQ((next - (453 * kMs + 300'000 + 4 * kMs + 1 * kMs)) % (10 * kMs), 0)
+      << next << ": the grid's phase, not the late frame's";
   EXPECT_LT(next - 500 * kMs, 10 * kMs);
 }
 
 TEST(SlotPhaseLock, OnceLockedTheSlotsMoveAtMostTheSlewPerPeriod) {
   SlotPhaseLock lock(20 * kMs, 50.0, 1 * kMs, 100'000);
   std::int64_t next = 1000 * kMs;
-  std::int64_t capture = 990 * kMs;
-  lock.on_estimate(capture, capture + 3 * kMs);
+  std::int64_t capture = 910 * kMs;
+  for (std::size_t k = 0; k < SlotPhaseLock::kLockAfter; ++k, capture += 20 * kMs)
+    lock.on_estimate(capture, capture + 3 * kMs);
+  capture -= 20 * kMs;
   next = lock.adjust(next + 20 * kMs);
-  std::int64_t capture_step = 0;
+  ASSERT_TRUE(lock.locked());
   for (int k = 0; k < 60; ++k) {
-    capture += 20 * kMs + capture_step;
-    if (k == 5) capture_step = 0, capture += 3 * kMs;  // the camera's phase jumps by 3 ms once
+    capture += 20 * kMs;
+    if (k == 5) capture += 3 * kMs;  // the camera's phase jumps by 3 ms, for good
+    if (k == 40) capture += 1 * kMs;  // one frame reaches gvsd 1 ms late ...
+    if (k == 41) capture -= 1 * kMs;  // ... and the next on time
     lock.on_estimate(capture, capture + 3 * kMs);
     const std::int64_t planned = next + 20 * kMs;
     const std::int64_t adjusted = lock.adjust(planned);
     EXPECT_LE(std::llabs(adjusted - planned), 100'000) << "period " << k;
+    if (k < 8) {
+      EXPECT_EQ(adjusted, planned) << "period " << k << ": the median phase has not moved yet";
+    }
     next = adjusted;
   }
-  // 3 ms at 0.1 ms per period: back on the target after 30 periods.
+  // The median follows the jump after four frames; 3 ms at 0.1 ms per
+  // period: back on the target 30 periods later, and the late frame moved nothing.
   EXPECT_EQ((next - (capture + 4 * kMs)) % (20 * kMs), 0);
 }
 

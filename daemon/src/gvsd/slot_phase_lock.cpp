@@ -59,6 +59,7 @@ SlotPhaseLock::SlotPhaseLock(std::int64_t can_period_ns, double frame_rate_fps, 
 
 void SlotPhaseLock::on_estimate(std::int64_t captured_ns, std::int64_t published_ns) noexcept {
   publish_delay_ns_[delays_ % kHistory] = std::max<std::int64_t>(0, published_ns - captured_ns);
+  captured_ns_[delays_ % kPhaseHistory] = captured_ns;
   ++delays_;
   last_captured_ns_ = captured_ns;
 }
@@ -78,9 +79,22 @@ std::int64_t SlotPhaseLock::budget_ns() const noexcept {
   return n == 1 ? longest : second;
 }
 
+std::int64_t SlotPhaseLock::capture_phase_ns() const noexcept {
+  // Each capture's phase against the newest one's, in [-Q/2, Q/2): a frame
+  // that arrived late shows as a positive offset, and the median ignores it.
+  const std::size_t n = std::min(delays_, kPhaseHistory);
+  if (n == 0) return last_captured_ns_;
+  std::array<std::int64_t, kPhaseHistory> offsets{};
+  for (std::size_t i = 0; i < n; ++i)
+    offsets[i] = wrap(captured_ns_[i] - last_captured_ns_ + modulus_ns_ / 2, modulus_ns_) - modulus_ns_ / 2;
+  const auto mid = offsets.begin() + static_cast<std::ptrdiff_t>(n / 2);
+  std::nth_element(offsets.begin(), mid, offsets.begin() + static_cast<std::ptrdiff_t>(n));
+  return last_captured_ns_ + *mid;
+}
+
 std::int64_t SlotPhaseLock::adjust(std::int64_t next_ns) noexcept {
-  if (delays_ == 0) return next_ns;
-  const std::int64_t target = last_captured_ns_ + budget_ns() + margin_ns_;
+  if (delays_ < kLockAfter) return next_ns;
+  const std::int64_t target = capture_phase_ns() + budget_ns() + margin_ns_;
   // How far the slot is behind the target's phase, in [0, Q): moving it
   // later by that much puts it on the target; earlier by Q minus that too.
   const std::int64_t later = wrap(target - next_ns, modulus_ns_);

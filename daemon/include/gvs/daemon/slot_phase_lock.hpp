@@ -7,14 +7,17 @@
 // (50 Hz CAN: 25, 50, 100 or 250 fps), so the frames' capture times keep one
 // phase modulo Q = min(frame period, CAN period). The slot that should
 // carry a frame's estimate is at
-//     capture time + budget + margin      (modulo Q),
-// budget = the second longest capture-to-publish time of the last 64
-// estimates: one slow frame (a preemption, a page fault) does not move the
-// slots, two do; a frame slower than the budget goes out in a later slot.
-// The first estimate moves the slots there in one step (only later, never
-// into the past); after that they slew at most `slew_ns` per period, so the
-// ECU sees every period within that of nominal while the lock follows the
-// camera's clock and the estimator's time.
+//     capture phase + budget + margin      (modulo Q),
+// capture phase = the median phase of the last 8 capture times (a frame
+// that reaches gvsd late, a cold first render or a late wake-up, moves
+// neither the phase nor the slots; a camera whose phase moves for good
+// moves it within 5 frames), budget = the second longest capture-to-publish
+// time of the last 64 estimates: one slow frame (a preemption, a page
+// fault) does not move the slots, two do; a frame slower than the budget
+// goes out in a later slot. The third estimate moves the slots there in
+// one step (only later, never into the past); after that they slew at most
+// `slew_ns` per period, so the ECU sees every period within that of
+// nominal while the lock follows the camera's clock and the estimator's time.
 //
 // Pure: no clocks, no I/O, no allocation, no exceptions after construction;
 // time comes from the arguments (PX4's OpticalFlowAccumulator is the model).
@@ -52,13 +55,20 @@ class SlotPhaseLock {
   /// The second longest capture-to-publish time of the last 64 estimates
   /// (the longest while there is only one).
   [[nodiscard]] std::int64_t budget_ns() const noexcept;
+  /// The newest capture time moved to the median phase (modulo Q) of the
+  /// last kPhaseHistory capture times.
+  [[nodiscard]] std::int64_t capture_phase_ns() const noexcept;
+  /// Estimates seen before the first step.
+  static constexpr std::size_t kLockAfter = 3;
 
  private:
   static constexpr std::size_t kHistory = 64;
+  static constexpr std::size_t kPhaseHistory = 8;
   std::int64_t modulus_ns_;
   std::int64_t margin_ns_;
   std::int64_t slew_ns_;
   std::array<std::int64_t, kHistory> publish_delay_ns_{};
+  std::array<std::int64_t, kPhaseHistory> captured_ns_{};
   std::size_t delays_ = 0;  ///< estimates seen (the history holds the last kHistory)
   std::int64_t last_captured_ns_ = 0;
   bool locked_ = false;
