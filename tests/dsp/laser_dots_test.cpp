@@ -94,6 +94,38 @@ TEST(GroundPlane, FourPointsFitTheirPlaneAndShowAPointOffIt) {
   EXPECT_NEAR(three.pitch_deg, exact.pitch_deg, 1e-9);
 }
 
+TEST(GroundPlane, TheTiltDoubtBoundsWhatOneWrongPointCanHide) {
+  // The design's four points on a tilted plane; each in turn moved off it
+  // by e: the tilt the fit then reads is never further from the truth than
+  // tilt_doubt_deg of the residual it shows, and for dot 0 or 1 (pitch over
+  // 28 mm) the bound is reached.
+  const double h = 61.0, pitch = 0.9, roll = 0.4;
+  const double th = core::deg_to_rad(pitch), ph = core::deg_to_rad(roll);
+  const core::Vec3 n{-std::sin(th), std::cos(th) * std::sin(ph), std::cos(th) * std::cos(ph)};
+  auto on_plane = [&](double x, double y) { return core::Vec3{x, y, -(n.x * x + n.y * y) / n.z - h}; };
+  const std::array<core::Vec3, 4> truth = {on_plane(14, 3), on_plane(-14, -3), on_plane(0, -20), on_plane(0, 20)};
+  for (std::size_t k = 0; k < 4; ++k) {
+    for (const double e_mm : {0.06, 0.2, -0.4}) {
+      std::array<core::Vec3, 4> p = truth;
+      p[k].z += e_mm;
+      double residual = 0.0;
+      const core::RideHeight r = ground_from_fit(p.data(), 4, 0.0, residual);
+      ASSERT_TRUE(r.has_tilt);
+      const double tilt_error = std::hypot(r.pitch_deg - pitch, r.roll_deg - roll);
+      const double bound = tilt_doubt_deg(p.data(), 4, residual);
+      EXPECT_LE(tilt_error, bound * 1.002) << "dot " << k << ", " << e_mm << " mm";
+      if (k < 2) {
+        EXPECT_NEAR(tilt_error, bound, 0.01 * bound) << "dot " << k << ", " << e_mm << " mm";
+      }
+      // Height: a quarter of the error, well inside what the height may be off.
+      EXPECT_LE(std::abs(r.height_mm - h), std::abs(e_mm) / 4.0 + 1e-3);
+    }
+  }
+  // 8.2 deg per mm of residual for this layout: 0.06 mm is the 0.5 deg the finder allows.
+  EXPECT_NEAR(tilt_doubt_deg(truth.data(), 4, 0.06), 0.49, 0.01);
+  EXPECT_TRUE(std::isinf(tilt_doubt_deg(truth.data(), 3, 0.0))) << "three points: a wrong one is not seen";
+}
+
 TEST(GroundPlane, TriangulationFindsThePointOnTheBeam) {
   const core::LaserGeometry g = core::design_laser_geometry(core::CameraGeometry{}, kNominalMm);
   for (std::size_t k = 0; k < g.count; ++k) {
@@ -372,6 +404,41 @@ cv::Mat with_grain_on_track(const drivers::SimulatorConfig& c, const cv::Mat& gr
   std::array<double, 2> grain{};
   along_track(c, dot, k, shift_px, grain[0], grain[1]);
   return with_grains(gray, {grain}, {&dot}, dot_gain, dot.mask_background_dn);
+}
+
+TEST(LaserDots, FourDotsThatDisagreeEnoughToHideAWrongTiltKeepTheHeightOnly) {
+  // Dot 0 blotted out (a dark stone) and a white grain on its track a few
+  // pixels further: taken for the dot, it sits 0.35 mm off the ground. The
+  // four still agree within max_plane_residual_mm (a quarter of it each),
+  // so the height stands (a quarter off); the pitch, resting on dots 0 and 1,
+  // would be 0.7 deg off, which the residual cannot rule out: no tilt.
+  drivers::SimulatorConfig c = laser_config();
+  drivers::Simulator sim(c, standing({0.0, 0.0, 0.0}, 8.0, 0.0));
+  drivers::SimFrame f;
+  sim.render(4, double_pulse(), f);
+  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
+  const LaserDotResult clean = finder.find(f.gray);
+  ASSERT_EQ(clean.found, 4U);
+  ASSERT_TRUE(clean.ride.has_tilt);
+  LaserDotFinder::Thresholds no_doubt = finder.thresholds();
+  no_doubt.max_tilt_doubt_deg = 90.0;
+  LaserDotFinder trusting(c.camera, kNominalMm, c.lasers);
+  trusting.set_thresholds(no_doubt);
+  for (const double shift_px : {1.0, 3.5}) {
+    const cv::Mat moved = with_grain_on_track(c, f.gray, clean.dots[0], 0, shift_px, 0.0);
+    const LaserDotResult res = finder.find(moved);
+    const LaserDotResult trusted = trusting.find(moved);
+    ASSERT_EQ(res.found, 4U) << shift_px << " px";
+    ASSERT_TRUE(res.ride.has_height) << shift_px << " px";
+    EXPECT_NEAR(res.ride.height_mm, clean.ride.height_mm, 0.15) << shift_px << " px";
+    ASSERT_TRUE(trusted.ride.has_tilt);
+    if (shift_px < 2.0) {
+      EXPECT_TRUE(res.ride.has_tilt) << "a dot 0.1 mm off hides at most 0.2 deg";
+    } else {
+      EXPECT_GT(std::abs(trusted.ride.pitch_deg - clean.ride.pitch_deg), 0.5) << "the tilt it would have sent";
+      EXPECT_FALSE(res.ride.has_tilt) << "pitch " << trusted.ride.pitch_deg << " against " << clean.ride.pitch_deg;
+    }
+  }
 }
 
 TEST(LaserDots, TheFourthDotIsFoundWhereTheOtherThreePutItUnderABrighterGrain) {

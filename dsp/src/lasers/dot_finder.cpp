@@ -269,7 +269,7 @@ bool LaserDotFinder::plausible(const core::RideHeight& ride) const {
          std::abs(ride.pitch_deg) <= thresholds_.max_tilt_deg && std::abs(ride.roll_deg) <= thresholds_.max_tilt_deg;
 }
 
-LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
+LaserDotResult LaserDotFinder::detect(const cv::Mat& gray) {
   LaserDotResult out;
   if (gray.type() != CV_8UC1 || gray.rows != camera_.height_px || gray.cols != camera_.width_px) return out;
   for (std::size_t k = 0; k < lasers_.count; ++k) find_one(gray, k, out.dots[k]);
@@ -279,8 +279,25 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
   return out;
 }
 
+void LaserDotFinder::withhold_doubtful_tilt(LaserDotResult& out) const {
+  if (!out.ride.has_tilt || out.found < 4) return;
+  std::array<core::Vec3, core::LaserGeometry::kMaxBeams> points{};
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < lasers_.count; ++k)
+    if (out.dots[k].found) points[n++] = out.dots[k].ground_mm;
+  double residual_mm = 0.0;
+  (void)ground_from_fit(points.data(), n, camera_.mount_yaw_deg, residual_mm);
+  if (tilt_doubt_deg(points.data(), n, residual_mm) > thresholds_.max_tilt_doubt_deg) out.ride.has_tilt = false;
+}
+
+LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
+  LaserDotResult out = detect(gray);
+  withhold_doubtful_tilt(out);
+  return out;
+}
+
 LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, double exposure_us) {
-  LaserDotResult out = find(gray);
+  LaserDotResult out = detect(gray);
   const double age_s = static_cast<double>(t_ns - prior_t_ns_) * 1e-9;
   if (has_prior_ && !(age_s > 0.0 && age_s <= thresholds_.max_prior_age_s)) has_prior_ = false;
   const double since_last_s = static_cast<double>(t_ns - last_responses_t_ns_) * 1e-9;
@@ -297,6 +314,7 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
   for (std::size_t k = 0; k < lasers_.count; ++k) std::copy(responses_[k].begin(), responses_[k].end(), last_responses_[k].begin());
   has_last_responses_ = true;
   last_responses_t_ns_ = t_ns;
+  withhold_doubtful_tilt(out);  // after the plane is kept: step 5 steers by where the dots were
   return out;
 }
 

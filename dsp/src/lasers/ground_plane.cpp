@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace gvs::dsp {
 
@@ -92,6 +93,38 @@ core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, do
     max_residual_mm = std::max(max_residual_mm, std::abs(d.z - a * d.x - b * d.y) / norm);
   }
   return ground_from_normal({-a / norm, -b / norm, 1.0 / norm}, mean, mount_yaw_deg);
+}
+
+double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_residual_mm) {
+  if (count < 4) return std::numeric_limits<double>::infinity();
+  core::Vec3 mean;
+  for (std::size_t k = 0; k < count; ++k) mean = mean + points[k];
+  mean = (1.0 / static_cast<double>(count)) * mean;
+  double sxx = 0.0, sxy = 0.0, syy = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const core::Vec3 d = points[k] - mean;
+    sxx += d.x * d.x;
+    sxy += d.x * d.y;
+    syy += d.y * d.y;
+  }
+  const double det = sxx * syy - sxy * sxy;
+  if (!(det > 1e-6 * (sxx + syy) * (sxx + syy))) return std::numeric_limits<double>::infinity();
+  double worst_rad_per_mm = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const core::Vec3 dk = points[k] - mean;
+    // S^-1 d_k: the slopes a unit error of point k gives.
+    const double ga = (syy * dk.x - sxy * dk.y) / det;
+    const double gb = (sxx * dk.y - sxy * dk.x) / det;
+    double largest_residual = 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const core::Vec3 di = points[i] - mean;
+      const double r = (i == k ? 1.0 : 0.0) - 1.0 / static_cast<double>(count) - (di.x * ga + di.y * gb);
+      largest_residual = std::max(largest_residual, std::abs(r));
+    }
+    if (!(largest_residual > 1e-9)) return std::numeric_limits<double>::infinity();  // point k's error unseen
+    worst_rad_per_mm = std::max(worst_rad_per_mm, std::hypot(ga, gb) / largest_residual);
+  }
+  return core::rad_to_deg(std::atan(worst_rad_per_mm * max_residual_mm));
 }
 
 void correct_velocity(const core::RideHeight& ride, double nominal_height_mm, double& vx_mps, double& vy_mps) {

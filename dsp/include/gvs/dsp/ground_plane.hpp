@@ -67,6 +67,18 @@ core::RideHeight ground_from_points(const core::Vec3& p1, const core::Vec3& p2, 
 core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, double mount_yaw_deg,
                                  double& max_residual_mm);
 
+/// How far one wrong point could have tilted the least-squares plane of
+/// `count` (4 or more) points (head axes) and still leave the largest
+/// residual `max_residual_mm` the fit shows, deg. A point k that is e mm
+/// off the ground moves the plane's slopes (a, b) by e S^-1 d_k (d_k the
+/// point about the mean, S the points' scatter matrix [Sxx Sxy; Sxy Syy])
+/// and leaves residuals e (delta_ik - 1/n - d_i^T S^-1 d_k); the largest of
+/// them is at most the residual seen, so e is at most that over it. The
+/// worst point gives the bound (the design's four dots: 8.2 deg per mm of
+/// residual, dot 0 or 1 moving the pitch over their 28 mm). Infinite for
+/// three points (nothing to see a wrong one by).
+double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_residual_mm);
+
 /// The scale correction of point 3 above: v = (H / H0) (A / R_zz) v_nominal
 /// (vehicle axes, m/s). `ride` must have has_height; without has_tilt the
 /// ground is taken as level.

@@ -72,7 +72,9 @@ struct LaserDot {
 struct LaserDotResult {
   std::array<LaserDot, core::LaserGeometry::kMaxBeams> dots{};
   std::size_t found = 0;
-  core::RideHeight ride;  ///< has_height / has_tilt only with a plausible plane of at least three dots
+  /// has_height / has_tilt only with a plausible plane of at least three
+  /// dots; four that disagree by enough to hide a wrong tilt keep the height only.
+  core::RideHeight ride;
 };
 
 class LaserDotFinder {
@@ -118,6 +120,12 @@ class LaserDotFinder {
     /// symmetric dots each residual is a quarter of one dot's error, so a
     /// dot 0.4 mm off its ground (4 px along its track) is caught.
     double max_plane_residual_mm = 0.1;
+    /// A plane of four dots goes out with its tilt only when no one dot
+    /// wrong by what their disagreement allows could have tilted it by more
+    /// than this, deg (tilt_doubt_deg in ground_plane.hpp: 8.2 deg per mm
+    /// of residual for the design, so 0.06 mm); past it the height stays
+    /// (one dot moves it by a quarter of its error) and the tilt does not.
+    double max_tilt_doubt_deg = 0.5;
     /// Step 5: how fast the camera's height may change, mm/s: a kerb strike
     /// lifts it by about 10 mm in 50 ms (200 mm/s on average, some 300 at
     /// its fastest); the dots are looked for within what this allows since
@@ -160,6 +168,10 @@ class LaserDotFinder {
       return (pixel_row - row[0]) * er + (pixel_col - col[0]) * ec;
     }
   };
+  /// Steps 1-4 on this frame alone.
+  LaserDotResult detect(const cv::Mat& gray);
+  /// Drops the tilt of a four-dot plane past Thresholds::max_tilt_doubt_deg.
+  void withhold_doubtful_tilt(LaserDotResult& out) const;
   void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
   DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
   void resolve(const cv::Mat& gray, LaserDotResult& out) const;
