@@ -45,6 +45,14 @@ core::ExposurePlan double_pulse() {
   return p;
 }
 
+/// Frame 4 of a double pulse at 8 m/s, the body level at the nominal height.
+drivers::SimFrame level_frame(const drivers::SimulatorConfig& c) {
+  drivers::Simulator sim(c, standing({0.0, 0.0, 0.0}, 8.0, 0.0));
+  drivers::SimFrame f;
+  sim.render(4, double_pulse(), f);
+  return f;
+}
+
 TEST(GroundPlane, ExactPointsGiveTheirPlane) {
   // Points on the plane of a known attitude and height (built the way the
   // simulator builds its ground: n = (-sin p, cos p sin r, cos p cos r),
@@ -340,9 +348,7 @@ cv::Mat with_grain_for_dot(const drivers::SimulatorConfig& c, const cv::Mat& gra
 
 TEST(LaserDots, TheFourthDotRefusesABrightGrainTakenForADot) {
   drivers::SimulatorConfig c = laser_config();
-  drivers::Simulator sim(c, standing({0.0, 0.0, 0.0}, 8.0, 0.0));
-  drivers::SimFrame f;
-  sim.render(4, double_pulse(), f);
+  const drivers::SimFrame f = level_frame(c);
   LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
   core::LaserGeometry three = c.lasers;
   three.count = 3;
@@ -413,9 +419,7 @@ TEST(LaserDots, FourDotsThatDisagreeEnoughToHideAWrongTiltKeepTheHeightOnly) {
   // so the height stands (a quarter off); the pitch, resting on dots 0 and 1,
   // would be 0.7 deg off, which the residual cannot rule out: no tilt.
   drivers::SimulatorConfig c = laser_config();
-  drivers::Simulator sim(c, standing({0.0, 0.0, 0.0}, 8.0, 0.0));
-  drivers::SimFrame f;
-  sim.render(4, double_pulse(), f);
+  const drivers::SimFrame f = level_frame(c);
   LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
   const LaserDotResult clean = finder.find(f.gray);
   ASSERT_EQ(clean.found, 4U);
@@ -449,9 +453,7 @@ TEST(LaserDots, TheFourthDotIsFoundWhereTheOtherThreePutItUnderABrighterGrain) {
   // checks; the plane of dots 0-2 puts dot 3 where it is, and its track
   // shows it there: four dots, one plane, the right height.
   drivers::SimulatorConfig c = laser_config();
-  drivers::Simulator sim(c, standing({0.0, 0.0, 0.0}, 8.0, 0.0));
-  drivers::SimFrame f;
-  sim.render(4, double_pulse(), f);
+  const drivers::SimFrame f = level_frame(c);
   LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
   const LaserDotResult clean = finder.find(f.gray);
   ASSERT_EQ(clean.found, 4U);
