@@ -545,6 +545,42 @@ TEST(LaserDots, AStandingCarsDotsAreFoundWhereTheyBrightenedMovedTogetherFromThe
   EXPECT_FALSE(forgetful.find(frame1, t_mid(f1), plan.exposure_us).ride.has_height);
 }
 
+TEST(LaserDots, DotsThatRanAlongTheirTracksWithinTheLightKeepTheHeightNotTheTilt) {
+  // The body rising at 90 mm/s (9 px per 16.7 ms along each track) under a
+  // double pulse whose pulses are 6.6 ms apart: each dot is imaged twice,
+  // 6 px apart (4 spot sigmas), and the centroid may settle on either. The
+  // frames keep their height; their tilt goes out only where the light is
+  // short enough (0.33 ms between the pulses: 0.3 px).
+  drivers::SimulatorConfig c = laser_config();
+  drivers::sim::Scenario rising = drivers::sim::constant_motion_scenario(2.0, 0.0);
+  rising.body = [](double t_s) { return drivers::sim::BodyPose{60.0 * t_s - 2.0, 0.0, 0.0}; };
+  core::ExposurePlan long_pulses;
+  long_pulses.pulse_count = 2;
+  long_pulses.pulses[0] = {0.0, 20.0};
+  long_pulses.pulses[1] = {6600.0, 20.0};
+  long_pulses.exposure_us = 6620.0;
+  for (const core::ExposurePlan& plan : {long_pulses, double_pulse()}) {
+    drivers::Simulator sim(c, rising);
+    LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
+    drivers::SimFrame f;
+    int with_height = 0, with_tilt = 0;
+    for (int i = 0; i < 4; ++i) {
+      sim.render(i, plan, f);
+      const LaserDotResult res = finder.find(f.gray, core::mid_exposure_ns(f.record.t_ns, plan), plan.exposure_us);
+      if (i == 0 || !res.ride.has_height) continue;  // the first frame: nothing to tell the rate by
+      ++with_height;
+      EXPECT_NEAR(res.ride.height_mm, f.truth.height_mm.value_or(kNominalMm), 0.15) << "frame " << i;
+      if (res.ride.has_tilt) ++with_tilt;
+    }
+    EXPECT_GE(with_height, 2) << plan.exposure_us << " us";
+    if (plan.exposure_us > 1000.0) {
+      EXPECT_EQ(with_tilt, 0) << "dots imaged twice, 6 px apart";
+    } else {
+      EXPECT_EQ(with_tilt, with_height) << "0.3 px apart";
+    }
+  }
+}
+
 TEST(LaserDots, ADarkPatchGivesTheHeightOrNone) {
   // A dark patch of asphalt under every dot (30 % of the light, dots
   // included: the laser lights it as dimly): either the dots are still

@@ -290,6 +290,17 @@ void LaserDotFinder::withhold_doubtful_tilt(LaserDotResult& out) const {
   if (tilt_doubt_deg(points.data(), n, residual_mm) > thresholds_.max_tilt_doubt_deg) out.ride.has_tilt = false;
 }
 
+bool LaserDotFinder::smeared_dots(const LaserDotResult& out, double age_s, double exposure_us) const {
+  for (std::size_t k = 0; k < lasers_.count; ++k) {
+    const LaserDot& d = out.dots[k];
+    if (!d.found) continue;
+    const Track& t = tracks_[k];
+    const double px_per_s = std::abs(t.along_px(d.row, d.col) - prior_along_px_[k]) / age_s;
+    if (px_per_s * exposure_us * 1e-6 > thresholds_.max_smear_sigmas * t.sigma_along_px) return true;
+  }
+  return false;
+}
+
 LaserDotResult LaserDotFinder::find(const cv::Mat& gray) {
   LaserDotResult out = detect(gray);
   withhold_doubtful_tilt(out);
@@ -310,11 +321,14 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
         if (out.dots[k].found) ++out.found;
     }
   }
+  const bool smeared = out.ride.has_tilt && has_prior_ && age_s > 0.0 && smeared_dots(out, age_s, exposure_us);
   if (out.ride.has_height && out.ride.has_tilt) remember_plane(out, t_ns);
   for (std::size_t k = 0; k < lasers_.count; ++k) std::copy(responses_[k].begin(), responses_[k].end(), last_responses_[k].begin());
   has_last_responses_ = true;
   last_responses_t_ns_ = t_ns;
-  withhold_doubtful_tilt(out);  // after the plane is kept: step 5 steers by where the dots were
+  // After the plane is kept: step 5 steers by where the dots were.
+  withhold_doubtful_tilt(out);
+  if (smeared) out.ride.has_tilt = false;
   return out;
 }
 

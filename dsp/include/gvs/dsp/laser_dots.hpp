@@ -137,7 +137,10 @@ class LaserDotFinder {
     /// Step 5 takes no dot smeared along its track by more than this many
     /// spot sigmas: the height changing fast within the exposure (a kerb
     /// strike under 3 ms of light: 6 px) moves its centroid off the middle
-    /// of the light by an unknown share.
+    /// of the light by an unknown share. Any other plane whose dots ran that
+    /// far keeps its height and not its tilt (a double pulse 6.6 ms long at
+    /// 60 mm/s of heave images each dot twice, 4 px apart, and the centroid
+    /// settles on either).
     double max_smear_sigmas = 2.0;
   };
   [[nodiscard]] const Thresholds& thresholds() const { return thresholds_; }
@@ -172,6 +175,9 @@ class LaserDotFinder {
   LaserDotResult detect(const cv::Mat& gray);
   /// Drops the tilt of a four-dot plane past Thresholds::max_tilt_doubt_deg.
   void withhold_doubtful_tilt(LaserDotResult& out) const;
+  /// Whether a found dot ran more than Thresholds::max_smear_sigmas along
+  /// its track within the light, at its rate since the last plane (`age_s` ago).
+  [[nodiscard]] bool smeared_dots(const LaserDotResult& out, double age_s, double exposure_us) const;
   void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
   DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
   void resolve(const cv::Mat& gray, LaserDotResult& out) const;
