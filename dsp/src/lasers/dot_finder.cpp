@@ -280,14 +280,22 @@ LaserDotResult LaserDotFinder::detect(const cv::Mat& gray) {
 }
 
 void LaserDotFinder::withhold_doubtful_tilt(LaserDotResult& out) const {
-  if (!out.ride.has_tilt || out.found < 4) return;
+  if (!out.ride.has_tilt) return;
   std::array<core::Vec3, core::LaserGeometry::kMaxBeams> points{};
   std::size_t n = 0;
   for (std::size_t k = 0; k < lasers_.count; ++k)
     if (out.dots[k].found) points[n++] = out.dots[k].ground_mm;
-  double residual_mm = 0.0;
-  (void)ground_from_fit(points.data(), n, camera_.mount_yaw_deg, residual_mm);
-  if (tilt_doubt_deg(points.data(), n, residual_mm) > thresholds_.max_tilt_doubt_deg) out.ride.has_tilt = false;
+  // Four dots show their own disagreement; three show none, and are judged
+  // by how far the dots' usual scatter tilts them.
+  bool doubtful = false;
+  if (n >= 4) {
+    double residual_mm = 0.0;
+    (void)ground_from_fit(points.data(), n, camera_.mount_yaw_deg, residual_mm);
+    doubtful = tilt_doubt_deg(points.data(), n, residual_mm) > thresholds_.max_tilt_doubt_deg;
+  } else {
+    doubtful = tilt_sigma_deg(points.data(), n, thresholds_.dot_scatter_mm) > thresholds_.max_tilt_sigma_deg;
+  }
+  if (doubtful) out.ride.has_tilt = false;
 }
 
 bool LaserDotFinder::smeared_dots(const LaserDotResult& out, double age_s, double exposure_us) const {
@@ -418,6 +426,9 @@ void LaserDotFinder::resolve(const cv::Mat& gray, LaserDotResult& out) const {
     if (!d.found) d.take(d.candidates[s.pick[k]]);
   }
   out.ride = s.ride;
+  // Three dots of four: the fourth may be there, outshone by a grain taken
+  // for it; found where they put it, it checks them (and fixes the tilt).
+  if (lasers_.count == 4 && std::popcount(s.used) == 3) fourth_where_three_put_it(gray, out);
 }
 
 void LaserDotFinder::mask(const LaserDotResult& result, cv::Mat& gray) const {

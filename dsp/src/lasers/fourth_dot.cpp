@@ -4,7 +4,9 @@
 // the ground; if its track shows a dot there (bright by the same rule as
 // any dot, only not the brightest: a white grain elsewhere on the track
 // outshines it), the four are fitted and must agree as four found dots do.
-// A grain is then masked beside the dot.
+// A grain is then masked beside the dot (on a contested track whose two
+// spots both missed the plane, the dot is a third spot: it and the rival
+// are masked, the grain taken first is ground again).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -34,8 +36,6 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
   Found first;
   std::size_t distinct = 0;
   for (std::size_t fourth = 0; fourth < kMax; ++fourth) {
-    const LaserDot& d4 = out.dots[fourth];
-    if (d4.rival) continue;  // a dot and a rival already masked on its track: no third spot
     std::array<std::size_t, 3> three{};
     std::array<std::size_t, 3> choices{};
     std::size_t m = 0;

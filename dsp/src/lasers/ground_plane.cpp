@@ -127,6 +127,25 @@ double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_re
   return core::rad_to_deg(std::atan(worst_rad_per_mm * max_residual_mm));
 }
 
+double tilt_sigma_deg(const core::Vec3* points, std::size_t count, double point_scatter_mm) {
+  if (count < 3) return std::numeric_limits<double>::infinity();
+  core::Vec3 mean;
+  for (std::size_t k = 0; k < count; ++k) mean = mean + points[k];
+  mean = (1.0 / static_cast<double>(count)) * mean;
+  double sxx = 0.0, sxy = 0.0, syy = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const core::Vec3 d = points[k] - mean;
+    sxx += d.x * d.x;
+    sxy += d.x * d.y;
+    syy += d.y * d.y;
+  }
+  // The smaller eigenvalue of the symmetric [Sxx Sxy; Sxy Syy].
+  const double half_trace = 0.5 * (sxx + syy);
+  const double lambda_min = half_trace - std::hypot(0.5 * (sxx - syy), sxy);
+  if (!(lambda_min > 1e-6 * half_trace)) return std::numeric_limits<double>::infinity();  // points in a line
+  return core::rad_to_deg(std::atan(point_scatter_mm / std::sqrt(lambda_min)));
+}
+
 void correct_velocity(const core::RideHeight& ride, double nominal_height_mm, double& vx_mps, double& vy_mps) {
   const double k = ride.height_mm / nominal_height_mm;
   if (!ride.has_tilt) {

@@ -79,6 +79,17 @@ core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, do
 /// three points (nothing to see a wrong one by).
 double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_residual_mm);
 
+/// The scatter of the least-squares plane's tilt, deg, along the direction
+/// its points fix most loosely, when each point's height scatters by
+/// `point_scatter_mm` on its own: least squares gives the slopes' covariance
+/// s^2 S^-1 (S the points' scatter matrix about their mean, as above), so
+/// the loosest direction scatters by s / sqrt(lambda_min(S)) rad (dilution
+/// of precision; any regression text: Cov(b) = s^2 (X^T X)^-1). The design's
+/// four dots: 2.96 deg per mm of point scatter (pitch over dots 0 and 1);
+/// without dot 0 or 1, 5.0 (pitch over one dot's 14 mm); without dot 2 or
+/// 3, 3.7. Infinite when the points do not fix a plane.
+double tilt_sigma_deg(const core::Vec3* points, std::size_t count, double point_scatter_mm);
+
 /// The scale correction of point 3 above: v = (H / H0) (A / R_zz) v_nominal
 /// (vehicle axes, m/s). `ride` must have has_height; without has_tilt the
 /// ground is taken as level.

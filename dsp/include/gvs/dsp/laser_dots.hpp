@@ -126,6 +126,15 @@ class LaserDotFinder {
     /// of residual for the design, so 0.06 mm); past it the height stays
     /// (one dot moves it by a quarter of its error) and the tilt does not.
     double max_tilt_doubt_deg = 0.5;
+    /// A plane of three dots (nothing checks it) goes out with its tilt only
+    /// when the dots' usual scatter, dot_scatter_mm each (the asphalt's
+    /// reflectance under the spot: the procedural asphalt's 0.034 mm, the
+    /// roughest seen), tilts it by at most this RMS, deg (tilt_sigma_deg in
+    /// ground_plane.hpp), so that max_tilt_doubt_deg is 3.3 of its sigmas
+    /// away. Without dot 2 or 3: 0.13 deg; without dot 0 or 1 (the pitch over
+    /// one dot's 14 mm): 0.17, which keeps its height only. (Four: 0.10.)
+    double max_tilt_sigma_deg = 0.15;
+    double dot_scatter_mm = 0.034;
     /// Step 5: how fast the camera's height may change, mm/s: a kerb strike
     /// lifts it by about 10 mm in 50 ms (200 mm/s on average, some 300 at
     /// its fastest); the dots are looked for within what this allows since
@@ -173,7 +182,8 @@ class LaserDotFinder {
   };
   /// Steps 1-4 on this frame alone.
   LaserDotResult detect(const cv::Mat& gray);
-  /// Drops the tilt of a four-dot plane past Thresholds::max_tilt_doubt_deg.
+  /// Drops the tilt of a four-dot plane past Thresholds::max_tilt_doubt_deg,
+  /// or of a three-dot plane past Thresholds::max_tilt_sigma_deg.
   void withhold_doubtful_tilt(LaserDotResult& out) const;
   /// Whether a found dot ran more than Thresholds::max_smear_sigmas along
   /// its track within the light, at its rate since the last plane (`age_s` ago).
