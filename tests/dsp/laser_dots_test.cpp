@@ -54,6 +54,15 @@ drivers::SimFrame level_frame(const drivers::SimulatorConfig& c) {
   return f;
 }
 
+/// The design's head over level ground (level_frame), a finder for its
+/// four beams, and what that finds on the frame as rendered.
+struct LevelScene {
+  drivers::SimulatorConfig c = laser_config();
+  drivers::SimFrame f = level_frame(c);
+  LaserDotFinder finder{c.camera, kNominalMm, c.lasers};
+  LaserDotResult clean = finder.find(f.gray);
+};
+
 TEST(GroundPlane, ExactPointsGiveTheirPlane) {
   // Points on the plane of a known attitude and height (built the way the
   // simulator builds its ground: n = (-sin p, cos p sin r, cos p cos r),
@@ -390,13 +399,11 @@ cv::Mat with_grain_for_dot(const drivers::SimulatorConfig& c, const cv::Mat& gra
 }
 
 TEST(LaserDots, TheFourthDotRefusesABrightGrainTakenForADot) {
-  drivers::SimulatorConfig c = laser_config();
-  const drivers::SimFrame f = level_frame(c);
-  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
+  LevelScene scene;
+  auto& [c, f, finder, clean] = scene;
   core::LaserGeometry three = c.lasers;
   three.count = 3;
   LaserDotFinder finder3(c.camera, kNominalMm, three);
-  const LaserDotResult clean = finder.find(f.gray);
   ASSERT_TRUE(clean.dots[0].found && clean.ride.has_height);
 
   // 6 px along (0.6 mm of height on that beam alone): three beams make a
@@ -461,10 +468,8 @@ TEST(LaserDots, FourDotsThatDisagreeEnoughToHideAWrongTiltKeepTheHeightOnly) {
   // four still agree within max_plane_residual_mm (a quarter of it each),
   // so the height stands (a quarter off); the pitch, resting on dots 0 and 1,
   // would be 0.7 deg off, which the residual cannot rule out: no tilt.
-  drivers::SimulatorConfig c = laser_config();
-  const drivers::SimFrame f = level_frame(c);
-  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
-  const LaserDotResult clean = finder.find(f.gray);
+  LevelScene scene;
+  auto& [c, f, finder, clean] = scene;
   ASSERT_EQ(clean.found, 4U);
   ASSERT_TRUE(clean.ride.has_tilt);
   LaserDotFinder::Thresholds no_doubt = finder.thresholds();
@@ -495,10 +500,8 @@ TEST(LaserDots, TheFourthDotIsFoundWhereTheOtherThreePutItUnderABrighterGrain) {
   // fails, and dots 0-2 with dot 1's rival beside it make a plane nothing
   // checks; the plane of dots 0-2 puts dot 3 where it is, and its track
   // shows it there: four dots, one plane, the right height.
-  drivers::SimulatorConfig c = laser_config();
-  const drivers::SimFrame f = level_frame(c);
-  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
-  const LaserDotResult clean = finder.find(f.gray);
+  LevelScene scene;
+  auto& [c, f, finder, clean] = scene;
   ASSERT_EQ(clean.found, 4U);
   ASSERT_TRUE(clean.ride.has_height);
   const cv::Mat grain3 = with_grain_on_track(c, f.gray, clean.dots[3], 3, 40.0, 0.5);
@@ -532,10 +535,8 @@ TEST(LaserDots, ThreeDotsWithoutDotZeroOrOneKeepTheHeightNotTheTilt) {
   // against the x = 0 line of dots 2 and 3 (1.7 times the four dots'
   // scatter), nothing checks it, and the frame keeps its height only.
   // Without dot 2 the pitch rests on dots 0 and 1 and the tilt goes out.
-  drivers::SimulatorConfig c = laser_config();
-  const drivers::SimFrame f = level_frame(c);
-  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
-  const LaserDotResult clean = finder.find(f.gray);
+  LevelScene scene;
+  auto& [c, f, finder, clean] = scene;
   ASSERT_EQ(clean.found, 4U);
   ASSERT_TRUE(clean.ride.has_tilt);
   auto without = [&](std::size_t k) {
@@ -565,10 +566,8 @@ TEST(LaserDots, GrainsOutshiningOneDotDoNotHideItFromTheOtherThree) {
   // other three, and the plane they make puts dot 0 where it is: four dots.
   // With a second grain 40 px the other way the track is contested by two
   // grains, neither on the plane: the dot, a third spot, is found the same.
-  drivers::SimulatorConfig c = laser_config();
-  const drivers::SimFrame f = level_frame(c);
-  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
-  const LaserDotResult clean = finder.find(f.gray);
+  LevelScene scene;
+  auto& [c, f, finder, clean] = scene;
   ASSERT_EQ(clean.found, 4U);
   const cv::Mat one = with_grain_on_track(c, f.gray, clean.dots[0], 0, 40.0, 0.5);
   std::array<double, 2> other{};

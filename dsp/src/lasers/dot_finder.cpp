@@ -304,7 +304,7 @@ bool LaserDotFinder::smeared_dots(const LaserDotResult& out, double age_s, doubl
     if (!d.found) continue;
     const Track& t = tracks_[k];
     const double px_per_s = std::abs(t.along_px(d.row, d.col) - prior_along_px_[k]) / age_s;
-    if (px_per_s * exposure_us * 1e-6 > thresholds_.max_smear_sigmas * t.sigma_along_px) return true;
+    if (smeared(t, px_per_s * exposure_us * 1e-6)) return true;
   }
   return false;
 }

@@ -34,6 +34,28 @@ bool beam_on_plane(const core::LaserBeam& beam, const core::Vec3& p1, const core
 
 namespace {
 
+/// The points' mean, and their scatter about it: S = [Sxx Sxy; Sxy Syy]
+/// and the products with z the plane fit needs.
+struct PointScatter {
+  core::Vec3 mean;
+  double sxx = 0.0, sxy = 0.0, syy = 0.0, sxz = 0.0, syz = 0.0;
+};
+
+PointScatter scatter_about_mean(const core::Vec3* points, std::size_t count) {
+  PointScatter s;
+  for (std::size_t k = 0; k < count; ++k) s.mean = s.mean + points[k];
+  s.mean = (1.0 / static_cast<double>(count)) * s.mean;
+  for (std::size_t k = 0; k < count; ++k) {
+    const core::Vec3 d = points[k] - s.mean;
+    s.sxx += d.x * d.x;
+    s.sxy += d.x * d.y;
+    s.syy += d.y * d.y;
+    s.sxz += d.x * d.z;
+    s.syz += d.y * d.z;
+  }
+  return s;
+}
+
 /// Height where the optical axis meets the plane through `p` with unit
 /// normal `n` (n.z > 0), and its pitch and roll in vehicle axes.
 core::RideHeight ground_from_normal(core::Vec3 n, const core::Vec3& p, double mount_yaw_deg) {
@@ -71,18 +93,7 @@ core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, do
   if (count < 3) return {};
   // Normal equations of z = c + a x + b y about the points' mean (better
   // conditioned): [Sxx Sxy; Sxy Syy] [a; b] = [Sxz; Syz], c = mz - a mx - b my.
-  core::Vec3 mean;
-  for (std::size_t k = 0; k < count; ++k) mean = mean + points[k];
-  mean = (1.0 / static_cast<double>(count)) * mean;
-  double sxx = 0.0, sxy = 0.0, syy = 0.0, sxz = 0.0, syz = 0.0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const core::Vec3 d = points[k] - mean;
-    sxx += d.x * d.x;
-    sxy += d.x * d.y;
-    syy += d.y * d.y;
-    sxz += d.x * d.z;
-    syz += d.y * d.z;
-  }
+  const auto [mean, sxx, sxy, syy, sxz, syz] = scatter_about_mean(points, count);
   const double det = sxx * syy - sxy * sxy;
   if (!(det > 1e-6 * (sxx + syy) * (sxx + syy))) return {};  // points in a line: no plane
   const double a = (sxz * syy - syz * sxy) / det;
@@ -97,16 +108,9 @@ core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, do
 
 double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_residual_mm) {
   if (count < 4) return std::numeric_limits<double>::infinity();
-  core::Vec3 mean;
-  for (std::size_t k = 0; k < count; ++k) mean = mean + points[k];
-  mean = (1.0 / static_cast<double>(count)) * mean;
-  double sxx = 0.0, sxy = 0.0, syy = 0.0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const core::Vec3 d = points[k] - mean;
-    sxx += d.x * d.x;
-    sxy += d.x * d.y;
-    syy += d.y * d.y;
-  }
+  const PointScatter s = scatter_about_mean(points, count);
+  const core::Vec3& mean = s.mean;
+  const double sxx = s.sxx, sxy = s.sxy, syy = s.syy;
   const double det = sxx * syy - sxy * sxy;
   if (!(det > 1e-6 * (sxx + syy) * (sxx + syy))) return std::numeric_limits<double>::infinity();
   double worst_rad_per_mm = 0.0;
@@ -129,19 +133,10 @@ double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_re
 
 double tilt_sigma_deg(const core::Vec3* points, std::size_t count, double point_scatter_mm) {
   if (count < 3) return std::numeric_limits<double>::infinity();
-  core::Vec3 mean;
-  for (std::size_t k = 0; k < count; ++k) mean = mean + points[k];
-  mean = (1.0 / static_cast<double>(count)) * mean;
-  double sxx = 0.0, sxy = 0.0, syy = 0.0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const core::Vec3 d = points[k] - mean;
-    sxx += d.x * d.x;
-    sxy += d.x * d.y;
-    syy += d.y * d.y;
-  }
+  const PointScatter s = scatter_about_mean(points, count);
   // The smaller eigenvalue of the symmetric [Sxx Sxy; Sxy Syy].
-  const double half_trace = 0.5 * (sxx + syy);
-  const double lambda_min = half_trace - std::hypot(0.5 * (sxx - syy), sxy);
+  const double half_trace = 0.5 * (s.sxx + s.syy);
+  const double lambda_min = half_trace - std::hypot(0.5 * (s.sxx - s.syy), s.sxy);
   if (!(lambda_min > 1e-6 * half_trace)) return std::numeric_limits<double>::infinity();  // points in a line
   return core::rad_to_deg(std::atan(point_scatter_mm / std::sqrt(lambda_min)));
 }

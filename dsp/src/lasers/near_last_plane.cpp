@@ -97,7 +97,7 @@ void LaserDotFinder::near_the_last_plane(const cv::Mat& gray, double age_s, doub
   const double rate_mm_per_us = std::abs(best_dh_mm) / (age_s * 1e6);
   for (std::size_t k = 0; k < kBeams; ++k) {
     const Track& t = tracks_[k];
-    if (rate_mm_per_us * exposure_us * t.px_per_mm_height > thresholds_.max_smear_sigmas * t.sigma_along_px) return;
+    if (smeared(t, rate_mm_per_us * exposure_us * t.px_per_mm_height)) return;
   }
   std::array<Candidate, kBeams> dot{};
   std::array<std::size_t, kBeams> sample{};

@@ -185,6 +185,11 @@ class LaserDotFinder {
   /// Drops the tilt of a four-dot plane past Thresholds::max_tilt_doubt_deg,
   /// or of a three-dot plane past Thresholds::max_tilt_sigma_deg.
   void withhold_doubtful_tilt(LaserDotResult& out) const;
+  /// Whether a dot that ran `run_px` along track `t` within the light is
+  /// smeared: more than Thresholds::max_smear_sigmas of its spot.
+  [[nodiscard]] bool smeared(const Track& t, double run_px) const {
+    return run_px > thresholds_.max_smear_sigmas * t.sigma_along_px;
+  }
   /// Whether a found dot ran more than Thresholds::max_smear_sigmas along
   /// its track within the light, at its rate since the last plane (`age_s` ago).
   [[nodiscard]] bool smeared_dots(const LaserDotResult& out, double age_s, double exposure_us) const;
