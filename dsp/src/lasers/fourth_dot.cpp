@@ -1,9 +1,10 @@
 // The fourth dot where three put it (docs/estimator.md, "Height from the
-// laser dots", step 4): when no plane of the brightest candidates holds,
-// each plausible plane of three dots predicts where the fourth beam meets
-// the ground; if its track shows a dot there (bright by the same rule as
-// any dot, only not the brightest: a white grain elsewhere on the track
-// outshines it), the four are fitted and must agree as four found dots do.
+// laser dots", step 4): when no plane of the brightest candidates holds, or
+// only one of three dots, each plausible plane of three predicts where the
+// fourth beam meets the ground; if its track shows a dot there (bright by
+// the same rule as any dot, only not the brightest: a white grain elsewhere
+// on the track outshines it), the four are fitted and must agree as four
+// found dots do.
 // A grain is then masked beside the dot (on a contested track whose two
 // spots both missed the plane, the dot is a third spot: it and the rival
 // are masked, the grain taken first is ground again).

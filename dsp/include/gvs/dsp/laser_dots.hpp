@@ -9,8 +9,10 @@
 // three dots a bright grain taken for a dot whose plane is still plausible
 // gives a wrong height (docs/estimator.md, "Wrong dots"); a fourth beam
 // checks the plane (the four must agree) and stands in for a dot not found,
-// and where no plane of the brightest spots holds, a plane of three is
-// checked by a fourth dot found where they put it, not the track's brightest;
+// and where no plane of the brightest spots holds, or one of three only, a
+// plane of three is checked by a fourth dot found where they put it, not the
+// track's brightest (a three-dot plane's tilt goes out only where the dots'
+// usual scatter moves it little: not without dot 0 or 1);
 // failing that (a standing car over grains as bright as a dot), the four
 // dots are looked for where they brightened since the last frame, moved
 // together by the body's heave from where the last plane put them.
