@@ -12,6 +12,7 @@
 #include "gvs/dsp/dft.hpp"
 #include "gvs/dsp/gvs_analysis.hpp"
 #include "gvs/dsp/gvs_settings.hpp"
+#include "gvs/dsp/laser_dots.hpp"
 #include "gvs/dsp/phase_correlation.hpp"
 #include "gvs/dsp/spectrum.hpp"
 
@@ -40,6 +41,21 @@ constexpr auto kHalf = dsp::DftPlan::Direction::forward_real_to_half_complex;
 std::vector<EstimatorStage> make_stages() {
   const dsp::GvsEstimatorSettings set;
   std::vector<EstimatorStage> s;
+  // --- the laser dots, as dsp::FrameProcessor: the frame copied, the dots
+  // found in the copy and masked there (each frame on its own: no step 5) ---
+  s.push_back({"laser_dots", "double_pulse", "laser dots: frame copied, dots found and masked",
+               [](const StageInputs& in) -> Step {
+                 const LaserStageSetup& head = *in.lasers;
+                 auto finder = std::make_shared<dsp::LaserDotFinder>(head.camera, head.nominal_height_mm, head.lasers);
+                 auto copy = std::make_shared<cv::Mat>(in.size, CV_8UC1);
+                 return [&in, finder, copy](std::size_t i) {
+                   in.gray[i].copyTo(*copy);
+                   const dsp::LaserDotResult found = finder->find(*copy);
+                   finder->mask(found, *copy);
+                   g_sink = found.ride.height_mm;
+                 };
+               },
+               [](const StageInputs& in) { return in.lasers ? frames(in) : std::size_t{0}; }, true});
   // --- the transforms ---
   s.push_back({"dft_plan_forward", "blurred", "`DftPlan` forward: FFTW_ESTIMATE r2c and the mirrored half",
                [](const StageInputs& in) -> Step {
@@ -192,10 +208,12 @@ std::vector<EstimatorStage> make_stages() {
 
 }  // namespace
 
-StageInputs make_stage_inputs(const std::vector<std::pair<cv::Mat, cv::Mat>>& frame_pairs) {
+StageInputs make_stage_inputs(const std::vector<std::pair<cv::Mat, cv::Mat>>& frame_pairs,
+                              std::optional<LaserStageSetup> lasers) {
   if (frame_pairs.empty()) throw std::invalid_argument("estimator stages: no frames to time the stages on");
   StageInputs in;
   in.size = frame_pairs.front().first.size();
+  if (lasers && lasers->lasers.enabled()) in.lasers = std::move(lasers);
   dsp::WindowedSpectrum tukey(in.size);
   const cv::Mat window = dsp::spectrum_window(in.size, CV_32F);
   for (const auto& [a, b] : frame_pairs) {

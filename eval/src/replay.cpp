@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -62,7 +63,9 @@ ReplayStats replay_dataset(const drivers::DatasetReader& dataset, dsp::FrameProc
       const std::size_t i = k * (n - 1) / count;
       pairs.emplace_back(dataset.load_gray(i), dataset.load_gray(i + 1));
     }
-    stats.stages = time_estimator_stages(make_stage_inputs(pairs));
+    std::optional<LaserStageSetup> head;
+    if (config.lasers.enabled()) head = LaserStageSetup{config.estimator.camera, config.nominal_height_mm, config.lasers};
+    stats.stages = time_estimator_stages(make_stage_inputs(pairs, head));
     stats.stage_pairs = count;
   }
   return stats;

@@ -28,7 +28,8 @@ std::vector<dsp::FrameView> render(const FrameKind& kind, bool lasers) {
   cfg.seconds = 1.5;
   cfg.light = kind.light;
   if (kind.photo != nullptr) cfg.ground = "photo:" + photo_path(kind.photo);
-  if (lasers) cfg.lasers = core::design_laser_geometry(cfg.camera, cfg.camera_height_mm);
+  cfg.camera_height_mm = kLaserHeightMm;
+  if (lasers) cfg.lasers = core::design_laser_geometry(cfg.camera, kLaserHeightMm);
   drivers::Simulator sim(cfg, drivers::sim::constant_motion_scenario(kind.vx_mps, kind.vy_mps, 0.0, 1.5));
   dsp::EstimatorConfig ec;
   ec.method = "gvs";

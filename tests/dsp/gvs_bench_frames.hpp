@@ -43,6 +43,9 @@ inline constexpr FrameKind kKinds[] = {
 };
 
 inline constexpr int kFrames = 60;
+/// The height the frames are rendered at (drivers::SimulatorConfig's
+/// default camera_height_mm), nominal for the laser dots' finder.
+inline constexpr double kLaserHeightMm = 60.0;
 
 /// The last kFrames frames (512x384) of 1.5 s of the simulator at the kind's
 /// constant velocity, with the exposure the gvs closed loop chose; rendered
@@ -51,7 +54,7 @@ inline constexpr int kFrames = 60;
 /// the checkout) and throws std::runtime_error naming the file when it is
 /// not there.
 const std::vector<dsp::FrameView>& frames_of(const FrameKind& kind);
-/// The same with the design's three laser dots lit (gvs sim --lasers).
+/// The same with the design's four laser dots lit (gvs sim --lasers).
 const std::vector<dsp::FrameView>& laser_frames_of(const FrameKind& kind);
 const FrameKind& kind_named(const char* name);
 

@@ -51,7 +51,7 @@ void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
   if (rendered == nullptr) return;
   const std::vector<dsp::FrameView>& frames = *rendered;
   const core::CameraGeometry camera;
-  dsp::LaserDotFinder finder(camera, 60.0, core::design_laser_geometry(camera, 60.0));
+  dsp::LaserDotFinder finder(camera, bench::kLaserHeightMm, core::design_laser_geometry(camera, bench::kLaserHeightMm));
   cv::Mat masked = frames.front().gray.clone();
   std::int64_t n = 0, with_height = 0;
   for (auto _ : state) {

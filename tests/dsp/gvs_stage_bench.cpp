@@ -6,6 +6,7 @@
 // gvs_estimator_bench.cpp's main; run alone with --benchmark_filter=BM_Stage.
 #include <benchmark/benchmark.h>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,17 +23,25 @@ namespace {
 // Spectra are 1.5 MB each: a few frames are enough for the stages.
 constexpr std::size_t kStagePairs = 4;
 
-const eval::StageInputs& inputs_of(const char* kind_name) {
+/// The kind's first frames; `lasers`: rendered with the design's four dots lit.
+const eval::StageInputs& inputs_of(const char* kind_name, bool lasers = false) {
   static std::vector<std::pair<std::string, eval::StageInputs>> cache;
+  const std::string key = std::string(kind_name) + (lasers ? "+lasers" : "");
   for (const auto& [name, in] : cache) {
-    if (name == kind_name) return in;
+    if (name == key) return in;
   }
-  const std::vector<dsp::FrameView>& frames = frames_of(kind_named(kind_name));
+  const FrameKind& kind = kind_named(kind_name);
+  const std::vector<dsp::FrameView>& frames = lasers ? laser_frames_of(kind) : frames_of(kind);
   std::vector<std::pair<cv::Mat, cv::Mat>> pairs;
   for (std::size_t i = 0; i < kStagePairs && 2 * i + 1 < frames.size(); ++i) {
     pairs.emplace_back(frames[2 * i].gray, frames[2 * i + 1].gray);
   }
-  cache.emplace_back(kind_name, eval::make_stage_inputs(pairs));
+  std::optional<eval::LaserStageSetup> head;
+  if (lasers) {
+    const core::CameraGeometry camera;
+    head = eval::LaserStageSetup{camera, kLaserHeightMm, core::design_laser_geometry(camera, kLaserHeightMm)};
+  }
+  cache.emplace_back(key, eval::make_stage_inputs(pairs, head));
   return cache.back().second;
 }
 
@@ -61,7 +70,7 @@ void register_stage_benchmarks() {
   for (const eval::EstimatorStage& stage : eval::estimator_stages()) {
     const std::string name = std::string("BM_Stage/") + stage.name + "/" + stage.kind;
     benchmark::RegisterBenchmark(name.c_str(), [&stage](benchmark::State& state) {
-      const eval::StageInputs& in = inputs_of(stage.kind);
+      const eval::StageInputs& in = inputs_of(stage.kind, stage.needs_lasers);
       const std::size_t n = stage.steps(in);
       const auto step = stage.prepare(in);
       std::size_t i = 0;
