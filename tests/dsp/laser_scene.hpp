@@ -18,6 +18,10 @@
 namespace gvs::dsp::laser_test {
 
 inline constexpr double kNominalMm = 60.0;
+/// How far a dot's light reaches, px: its spot is 8x the ring's light and
+/// saturates, so its tails stay bright well beyond the spot's sigma; a dot
+/// blotted or dimmed over less leaves a bright ring a few pixels out.
+inline constexpr double kDotReachPx = 8.0;
 
 inline drivers::SimulatorConfig laser_config(std::uint64_t seed = 5) {
   drivers::SimulatorConfig c;
@@ -71,8 +75,8 @@ inline void along_track(const drivers::SimulatorConfig& c, const LaserDot& dot, 
 }
 
 /// `gray` with white grains (255, 2 px, a ring of `background` around) at
-/// `grains` and the dots within 5 px of `dimmed` dimmed to `gain` of their
-/// contrast over `background`.
+/// `grains` and the dots of `dimmed` (within kDotReachPx) dimmed to `gain`
+/// of their contrast over `background`.
 inline cv::Mat with_grains(const cv::Mat& gray, const std::vector<std::array<double, 2>>& grains,
                     const std::vector<const LaserDot*>& dimmed, double gain, double background) {
   cv::Mat out = gray.clone();
@@ -80,7 +84,7 @@ inline cv::Mat with_grains(const cv::Mat& gray, const std::vector<std::array<dou
     for (int cc = 0; cc < out.cols; ++cc) {
       double v = out.at<std::uint8_t>(r, cc);
       for (const LaserDot* d : dimmed)
-        if (std::hypot(r - d->row, cc - d->col) <= 5.0) v = background + (v - background) * gain;
+        if (std::hypot(r - d->row, cc - d->col) <= kDotReachPx) v = background + (v - background) * gain;
       for (const auto& [gr, gc] : grains) {
         const double d_grain = std::hypot(r - gr, cc - gc);
         if (d_grain <= 2.0) v = 255.0;
@@ -92,7 +96,7 @@ inline cv::Mat with_grains(const cv::Mat& gray, const std::vector<std::array<dou
   return out;
 }
 
-/// `gray` with dot `dot` blotted out: the ground beside it within 5 px.
+/// `gray` with dot `dot` blotted out: the ground beside it over kDotReachPx.
 inline cv::Mat blotted(const cv::Mat& gray, const LaserDot& dot) {
   return with_grains(gray, {}, {&dot}, 0.0, dot.mask_background_dn);
 }

@@ -36,7 +36,7 @@ cv::Mat with_grain_for_dot(const drivers::SimulatorConfig& c, const cv::Mat& gra
       const double d_dot = std::hypot(r - dot.row, cc - dot.col);
       const double d_grain = std::hypot(r - row, cc - col);
       double v = out.at<std::uint8_t>(r, cc);
-      if (d_dot <= 4.0) v = background;                                                      // the dot, gone
+      if (d_dot <= kDotReachPx) v = background;                                              // the dot, gone
       if (d_grain <= 4.0) v = background + peak * std::exp(-0.5 * d_grain * d_grain / 1.44);  // the grain
       out.at<std::uint8_t>(r, cc) = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
     }
@@ -195,6 +195,34 @@ TEST(LaserDots, GrainsOutshiningOneDotDoNotHideItFromTheOtherThree) {
     // The dot is masked where it is.
     EXPECT_NEAR(res.dots[0].mask_row, clean.dots[0].row, 0.5);
     EXPECT_NEAR(res.dots[0].mask_col, clean.dots[0].col, 0.5);
+  }
+}
+
+TEST(LaserDots, AThreeDotPlaneWhoseFourthDotShowsBesideWhereItPutsItGivesNoHeight) {
+  // Dot 3 on a dark stone (blotted out) with a spot as bright further along
+  // its track, taken for it; dot 1 contested by a white grain 40 px along
+  // its own track. No four agree, and the one plane of three with a single
+  // choice each is dots 0 and 2 with the spot: tilted by the spot, it puts
+  // dot 1 a few pixels from where dot 1 shows. A spot 6-12 px along (0.6-1.2
+  // mm off its ground) gave a height 0.3-0.6 mm off; now none. A spot 3-5 px
+  // along moves the plane so little that dot 1 is found where it puts it,
+  // and the four agree within max_plane_residual_mm.
+  LevelScene scene;
+  auto& [c, f, finder, clean] = scene;
+  ASSERT_EQ(clean.found, 4U);
+  for (const double shift_px : {3.0, 5.0, 6.0, 9.0, 12.0}) {
+    const cv::Mat spot3 = with_grain_for_dot(c, f.gray, clean.dots[3], 3, shift_px);
+    const cv::Mat frame = with_grain_on_track(c, spot3, clean.dots[1], 1, 40.0, 1.0);
+    const LaserDotResult res = finder.find(frame);
+    if (shift_px < 5.5) {
+      EXPECT_EQ(res.found, 4U) << shift_px << " px";
+      ASSERT_TRUE(res.ride.has_height) << shift_px << " px";
+      EXPECT_NEAR(res.ride.height_mm, clean.ride.height_mm, 0.15) << shift_px << " px";
+    } else {
+      EXPECT_EQ(res.dots[1].status, DotStatus::contested) << shift_px << " px: the scene must leave dot 1 contested";
+      EXPECT_FALSE(res.ride.has_height) << shift_px << " px: height " << res.ride.height_mm << " against "
+                                        << clean.ride.height_mm;
+    }
   }
 }
 

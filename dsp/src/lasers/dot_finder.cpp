@@ -428,7 +428,11 @@ void LaserDotFinder::resolve(const cv::Mat& gray, LaserDotResult& out) const {
   out.ride = s.ride;
   // Three dots of four: the fourth may be there, outshone by a grain taken
   // for it; found where they put it, it checks them (and fixes the tilt).
-  if (lasers_.count == 4 && std::popcount(s.used) == 3) fourth_where_three_put_it(gray, out);
+  if (lasers_.count == 4 && std::popcount(s.used) == 3) {
+    fourth_where_three_put_it(gray, out);
+    // Not there, but a dot beside it: the three's plane is off. No height.
+    if (fourth_beside_where_three_put_it(out)) out.ride = core::RideHeight{};
+  }
 }
 
 void LaserDotFinder::mask(const LaserDotResult& result, cv::Mat& gray) const {

@@ -7,10 +7,14 @@
 // found dots do.
 // A grain is then masked beside the dot (on a contested track whose two
 // spots both missed the plane, the dot is a third spot: it and the rival
-// are masked, the grain taken first is ground again).
+// are masked, the grain taken first is ground again). A plane of three
+// whose fourth dot is not there but shows a few pixels beside is off (one
+// of the three a grain): fourth_beside_where_three_put_it.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "gvs/dsp/ground_plane.hpp"
 #include "gvs/dsp/laser_dots.hpp"
@@ -22,6 +26,12 @@ namespace {
 /// three dots' scatter moves the prediction by well under a pixel, a plane
 /// tilted by max_tilt_deg through wrong dots by several.
 constexpr int kSearchSamples = 2;
+/// Samples either side searched for a dot beside the prediction, past
+/// kSearchSamples: a grain taken for one of the three, off its ground by up
+/// to what max_tilt_deg lets a plane pass (3 deg over the dots' 28 mm:
+/// about 1.5 mm), moves the prediction by up to about as much, at 10 px per
+/// mm of height on the fourth beam; the fourth dot shows there.
+constexpr int kBesideSamples = 15;
 
 }  // namespace
 
@@ -101,6 +111,38 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
     take_at(k, first.sample, first.dot, d);
   }
   out.ride = first.ride;
+}
+
+bool LaserDotFinder::fourth_beside_where_three_put_it(const LaserDotResult& out) const {
+  std::array<core::Vec3, 3> p{};
+  std::size_t m = 0;
+  std::size_t fourth = lasers_.count;
+  for (std::size_t k = 0; k < lasers_.count; ++k) {
+    if (!out.dots[k].found) fourth = k;
+    else if (m < 3) p[m++] = out.dots[k].ground_mm;
+  }
+  if (m != 3 || fourth == lasers_.count) return false;
+  core::Vec3 predicted;
+  if (!beam_on_plane(lasers_.beams[fourth], p[0], p[1], p[2], predicted) || !(predicted.z < 0.0)) return false;
+  double row = 0.0, col = 0.0;
+  core::head_to_pixel(camera_, nominal_height_mm_, predicted, row, col);
+  const std::vector<double>& response = responses_[fourth];
+  const auto n = static_cast<long>(tracks_[fourth].row.size());
+  const long centre = std::lround(tracks_[fourth].along_px(row, col));
+  const auto at = [&](long i) { return response[static_cast<std::size_t>(i)]; };
+  double where_put = -std::numeric_limits<double>::infinity();
+  for (long i = std::max(0L, centre - kSearchSamples); i <= std::min(n - 1, centre + kSearchSamples); ++i)
+    where_put = std::max(where_put, at(i));
+  // Step 2's bars, and brighter than the track where the three put the dot.
+  for (long d = kSearchSamples + 1; d <= kBesideSamples; ++d) {
+    for (const long i : {centre - d, centre + d}) {
+      if (i < 0 || i >= n) continue;
+      const bool bright = at(i) >= thresholds_.min_contrast_dn &&
+                          at(i) - median_[fourth] >= thresholds_.min_sigmas * spread_[fourth];
+      if (bright && at(i) > where_put) return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace gvs::dsp

@@ -12,7 +12,8 @@
 // and where no plane of the brightest spots holds, or one of three only, a
 // plane of three is checked by a fourth dot found where they put it, not the
 // track's brightest (a three-dot plane's tilt goes out only where the dots'
-// usual scatter moves it little: not without dot 0 or 1);
+// usual scatter moves it little: not without dot 0 or 1; no plane of three
+// goes out whose fourth dot shows a few pixels beside where it puts it);
 // failing that (a standing car over grains as bright as a dot), the four
 // dots are looked for where they brightened since the last frame, moved
 // together by the body's heave from where the last plane put them.
@@ -199,6 +200,10 @@ class LaserDotFinder {
   DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
   void resolve(const cv::Mat& gray, LaserDotResult& out) const;
   void fourth_where_three_put_it(const cv::Mat& gray, LaserDotResult& out) const;
+  /// With three dots of four found: whether the fourth beam's track shows a
+  /// dot (step 2's bars) a few pixels beside where their plane puts it, and
+  /// brighter than there: the plane is off (one of the three a grain).
+  [[nodiscard]] bool fourth_beside_where_three_put_it(const LaserDotResult& out) const;
   void near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out);
   /// Median and 1.4826 MAD of values[0 .. n) (scratch_ is overwritten).
   void robust_spread(const std::vector<double>& values, std::size_t n, double& median, double& spread);
