@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -63,8 +62,8 @@ ReplayStats replay_dataset(const drivers::DatasetReader& dataset, dsp::FrameProc
       const std::size_t i = k * (n - 1) / count;
       pairs.emplace_back(dataset.load_gray(i), dataset.load_gray(i + 1));
     }
-    std::optional<LaserStageSetup> head;
-    if (config.lasers.enabled()) head = LaserStageSetup{config.estimator.camera, config.nominal_height_mm, config.lasers};
+    // The laser_dots stage runs where the processor found dots (make_stage_inputs drops a head without beams).
+    const LaserStageSetup head{config.estimator.camera, config.nominal_height_mm, config.lasers};
     stats.stages = time_estimator_stages(make_stage_inputs(pairs, head));
     stats.stage_pairs = count;
   }

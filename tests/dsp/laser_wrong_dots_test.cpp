@@ -204,9 +204,9 @@ TEST(LaserDots, AThreeDotPlaneWhoseFourthDotShowsBesideWhereItPutsItGivesNoHeigh
   // its own track. No four agree, and the one plane of three with a single
   // choice each is dots 0 and 2 with the spot: tilted by the spot, it puts
   // dot 1 a few pixels from where dot 1 shows. A spot 6-12 px along (0.6-1.2
-  // mm off its ground) gave a height 0.3-0.6 mm off; now none. A spot 3-5 px
-  // along moves the plane so little that dot 1 is found where it puts it,
-  // and the four agree within max_plane_residual_mm.
+  // mm off its ground) makes that plane's height 0.3-0.6 mm off: no height
+  // goes out. A spot 3-5 px along moves the plane so little that dot 1 is
+  // found where it puts it, and the four agree within max_plane_residual_mm.
   LevelScene scene;
   auto& [c, f, finder, clean] = scene;
   ASSERT_EQ(clean.found, 4U);

@@ -57,8 +57,7 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
       three[m++] = k;
     }
     if (choices[0] == 0 || choices[1] == 0 || choices[2] == 0) continue;
-    const Track& t = tracks_[fourth];
-    const std::size_t n = t.row.size();
+    const std::size_t n = tracks_[fourth].row.size();
     for (std::size_t combo = 0; combo < choices[0] * choices[1] * choices[2]; ++combo) {
       std::array<std::size_t, kMax> pick{};
       std::array<core::Vec3, 4> p{};
@@ -69,12 +68,9 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
         p[i] = d.found ? d.ground_mm : d.candidates[pick[three[i]]].ground_mm;
       }
       if (!plausible(ground_from_points(p[0], p[1], p[2], camera_.mount_yaw_deg))) continue;
-      core::Vec3 predicted;
-      if (!beam_on_plane(lasers_.beams[fourth], p[0], p[1], p[2], predicted) || !(predicted.z < 0.0)) continue;
-      double row = 0.0, col = 0.0;
-      core::head_to_pixel(camera_, nominal_height_mm_, predicted, row, col);
       // The predicted sample: samples are 1 px apart along the track.
-      const double along = t.along_px(row, col);
+      double along = 0.0;
+      if (!along_where_plane_meets(fourth, p[0], p[1], p[2], along)) continue;
       const long centre = std::lround(along);
       if (centre < 0 || centre >= static_cast<long>(n)) continue;
       const long last = std::min(static_cast<long>(n) - 1, centre + kSearchSamples);
@@ -83,11 +79,7 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
         const auto si = static_cast<std::size_t>(i);
         if (best == n || responses_[fourth][si] > responses_[fourth][best]) best = si;
       }
-      // Step 2's bars, without the rival rule.
-      const double response = responses_[fourth][best];
-      const bool bright = response >= thresholds_.min_contrast_dn &&
-                          response - median_[fourth] >= thresholds_.min_sigmas * spread_[fourth];
-      if (!bright) continue;
+      if (!stands_out(fourth, best)) continue;
       Candidate c4;
       if (measure(gray, fourth, best, c4) != DotStatus::found) continue;
       p[3] = c4.ground_mm;
@@ -113,6 +105,16 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
   out.ride = first.ride;
 }
 
+bool LaserDotFinder::along_where_plane_meets(std::size_t k, const core::Vec3& p1, const core::Vec3& p2,
+                                             const core::Vec3& p3, double& along_px) const {
+  core::Vec3 point;
+  if (!beam_on_plane(lasers_.beams[k], p1, p2, p3, point) || !(point.z < 0.0)) return false;
+  double row = 0.0, col = 0.0;
+  core::head_to_pixel(camera_, nominal_height_mm_, point, row, col);
+  along_px = tracks_[k].along_px(row, col);
+  return true;
+}
+
 bool LaserDotFinder::fourth_beside_where_three_put_it(const LaserDotResult& out) const {
   std::array<core::Vec3, 3> p{};
   std::size_t m = 0;
@@ -122,24 +124,20 @@ bool LaserDotFinder::fourth_beside_where_three_put_it(const LaserDotResult& out)
     else if (m < 3) p[m++] = out.dots[k].ground_mm;
   }
   if (m != 3 || fourth == lasers_.count) return false;
-  core::Vec3 predicted;
-  if (!beam_on_plane(lasers_.beams[fourth], p[0], p[1], p[2], predicted) || !(predicted.z < 0.0)) return false;
-  double row = 0.0, col = 0.0;
-  core::head_to_pixel(camera_, nominal_height_mm_, predicted, row, col);
+  double along = 0.0;
+  if (!along_where_plane_meets(fourth, p[0], p[1], p[2], along)) return false;
   const std::vector<double>& response = responses_[fourth];
   const auto n = static_cast<long>(tracks_[fourth].row.size());
-  const long centre = std::lround(tracks_[fourth].along_px(row, col));
-  const auto at = [&](long i) { return response[static_cast<std::size_t>(i)]; };
+  const long centre = std::lround(along);
   double where_put = -std::numeric_limits<double>::infinity();
   for (long i = std::max(0L, centre - kSearchSamples); i <= std::min(n - 1, centre + kSearchSamples); ++i)
-    where_put = std::max(where_put, at(i));
+    where_put = std::max(where_put, response[static_cast<std::size_t>(i)]);
   // Step 2's bars, and brighter than the track where the three put the dot.
   for (long d = kSearchSamples + 1; d <= kBesideSamples; ++d) {
     for (const long i : {centre - d, centre + d}) {
       if (i < 0 || i >= n) continue;
-      const bool bright = at(i) >= thresholds_.min_contrast_dn &&
-                          at(i) - median_[fourth] >= thresholds_.min_sigmas * spread_[fourth];
-      if (bright && at(i) > where_put) return true;
+      const auto si = static_cast<std::size_t>(i);
+      if (stands_out(fourth, si) && response[si] > where_put) return true;
     }
   }
   return false;

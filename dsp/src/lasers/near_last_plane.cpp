@@ -40,13 +40,8 @@ void LaserDotFinder::remember_plane(const LaserDotResult& out, std::int64_t t_ns
   if (m < 3) return;
   for (std::size_t k = 0; k < lasers_.count; ++k) {
     const LaserDot& d = out.dots[k];
-    double row = d.row, col = d.col;
-    if (!d.found) {
-      core::Vec3 point;
-      if (!beam_on_plane(lasers_.beams[k], p[0], p[1], p[2], point) || !(point.z < 0.0)) return;
-      core::head_to_pixel(camera_, nominal_height_mm_, point, row, col);
-    }
-    prior_along_px_[k] = tracks_[k].along_px(row, col);
+    if (d.found) prior_along_px_[k] = tracks_[k].along_px(d.row, d.col);
+    else if (!along_where_plane_meets(k, p[0], p[1], p[2], prior_along_px_[k])) return;
   }
   has_prior_ = true;
   prior_t_ns_ = t_ns;

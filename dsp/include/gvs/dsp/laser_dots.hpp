@@ -199,6 +199,16 @@ class LaserDotFinder {
   void find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot);
   DotStatus measure(const cv::Mat& gray, std::size_t k, std::size_t sample, Candidate& out) const;
   void resolve(const cv::Mat& gray, LaserDotResult& out) const;
+  /// Where beam k meets the plane through p1, p2, p3: px along its track.
+  /// False when it does not meet it below the head.
+  bool along_where_plane_meets(std::size_t k, const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
+                               double& along_px) const;
+  /// Step 2's bars on track k's response at `sample` (contrast and robust
+  /// sigmas), without the rival rule.
+  [[nodiscard]] bool stands_out(std::size_t k, std::size_t sample) const {
+    const double response = responses_[k][sample];
+    return response >= thresholds_.min_contrast_dn && response - median_[k] >= thresholds_.min_sigmas * spread_[k];
+  }
   void fourth_where_three_put_it(const cv::Mat& gray, LaserDotResult& out) const;
   /// With three dots of four found: whether the fourth beam's track shows a
   /// dot (step 2's bars) a few pixels beside where their plane puts it, and

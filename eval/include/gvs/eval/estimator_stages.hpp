@@ -36,7 +36,8 @@ struct StageInputs {
 };
 
 /// `pairs`: frame pairs (each two consecutive frames of one size, CV_8U).
-/// `lasers`: the head, when the frames show its laser dots. Throws
+/// `lasers`: the head, when the frames show its laser dots (one without
+/// beams counts as none). Throws
 /// std::invalid_argument when empty or of mixed sizes.
 StageInputs make_stage_inputs(const std::vector<std::pair<cv::Mat, cv::Mat>>& pairs,
                               std::optional<LaserStageSetup> lasers = std::nullopt);
