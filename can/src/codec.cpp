@@ -114,11 +114,12 @@ CanFrame encode_ride_height(const RideHeightMsg& m, const MessageIds& ids, std::
   const auto& s = kRideHeightSignals;
   CanFrame f = blank_frame(ids, MessageKind::RideHeight);
   put_flag(f, s[kHeightValid], m.height_valid);
-  put_flag(f, s[kTiltValid], m.tilt_valid);
+  put_flag(f, s[kPitchValid], m.pitch_valid);
+  put_flag(f, s[kRollValid], m.roll_valid);
   put_count(f, s[kScaleSource], static_cast<std::uint8_t>(m.scale_source));
   put(f, s[kHeight], m.height_valid ? m.height_mm : 0.0);
-  put(f, s[kPitch], m.tilt_valid ? m.pitch_deg : 0.0);
-  put(f, s[kRoll], m.tilt_valid ? m.roll_deg : 0.0);
+  put(f, s[kPitch], m.pitch_valid ? m.pitch_deg : 0.0);
+  put(f, s[kRoll], m.roll_valid ? m.roll_deg : 0.0);
   put_count(f, s[kHeightAge], m.age_ms);
   e2e_protect(f, counter);
   return f;
@@ -128,19 +129,18 @@ RideHeightMsg ride_height_from_estimate(const BusEstimate* e, std::int64_t now_n
   RideHeightMsg m;
   if (e == nullptr) return m;
   m.scale_source = e->scale_source;
-  if (!e->has_height && !e->has_tilt) return m;  // age stays 255: nothing measured
+  if (!e->has_height && !e->has_pitch && !e->has_roll) return m;  // age stays 127: nothing measured
   const std::int64_t age_ms = (now_ns - e->t_ns) / 1'000'000;
-  m.age_ms = static_cast<std::uint32_t>(std::clamp<std::int64_t>(age_ms, 0, 255));
+  m.age_ms = static_cast<std::uint32_t>(std::clamp<std::int64_t>(age_ms, 0, 127));
   if (std::llabs(age_ms) > rule.stale_after_ms) return m;
   using namespace sig_ride_height;
   const auto& s = kRideHeightSignals;
   m.height_valid = e->has_height && in_range(s[kHeight], e->height_mm);
-  m.tilt_valid = e->has_tilt && in_range(s[kPitch], e->pitch_deg) && in_range(s[kRoll], e->roll_deg);
+  m.pitch_valid = e->has_pitch && in_range(s[kPitch], e->pitch_deg);
+  m.roll_valid = e->has_roll && in_range(s[kRoll], e->roll_deg);
   if (m.height_valid) m.height_mm = e->height_mm;
-  if (m.tilt_valid) {
-    m.pitch_deg = e->pitch_deg;
-    m.roll_deg = e->roll_deg;
-  }
+  if (m.pitch_valid) m.pitch_deg = e->pitch_deg;
+  if (m.roll_valid) m.roll_deg = e->roll_deg;
   return m;
 }
 
@@ -277,7 +277,8 @@ DecodedFrame decode(const CanFrame& frame, const MessageIds& ids) noexcept {
       using namespace sig_ride_height;
       const auto& s = kRideHeightSignals;
       d.ride.height_valid = get_flag(frame, s[kHeightValid]);
-      d.ride.tilt_valid = get_flag(frame, s[kTiltValid]);
+      d.ride.pitch_valid = get_flag(frame, s[kPitchValid]);
+      d.ride.roll_valid = get_flag(frame, s[kRollValid]);
       d.ride.scale_source = static_cast<ScaleSourceCode>(get_uint<std::uint8_t>(frame, s[kScaleSource]));
       d.ride.height_mm = get(frame, s[kHeight]);
       d.ride.pitch_deg = get(frame, s[kPitch]);

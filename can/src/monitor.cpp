@@ -172,9 +172,11 @@ std::string MonitorState::render(std::int64_t now_ns) const {
   if (has(MessageKind::RideHeight)) {
     const bool stale = silent(MessageKind::RideHeight, now_ns);
     const auto validity = [stale](bool v) { return stale ? "old" : yes_no(v); };
-    appendf(out, "height %7.2f mm  valid %s  pitch %6.2f roll %6.2f deg  valid %s  age %" PRIu32 " ms  scale: %s\n",
-            ride_.height_mm, validity(ride_.height_valid), ride_.pitch_deg, ride_.roll_deg,
-            validity(ride_.tilt_valid), ride_.age_ms, scale_source_word(ride_.scale_source));
+    appendf(out,
+            "height %7.2f mm  valid %s  pitch %6.2f deg  valid %s  roll %6.2f deg  valid %s  age %" PRIu32
+            " ms  scale: %s\n",
+            ride_.height_mm, validity(ride_.height_valid), ride_.pitch_deg, validity(ride_.pitch_valid),
+            ride_.roll_deg, validity(ride_.roll_valid), ride_.age_ms, scale_source_word(ride_.scale_source));
   }
   if (has(MessageKind::Status)) {
     const char* word = method_word_ != nullptr ? method_word_(status_.method) : nullptr;

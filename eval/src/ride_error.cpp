@@ -43,8 +43,9 @@ void RideCsvWriter::write(const core::VelocityEstimate& e, int dots_found) {
   out_ << e.index << ',' << e.t_ns << ',';
   if (e.ride.has_height) out_ << fmt::format("{:.4f}", e.ride.height_mm);
   out_ << ',';
-  if (e.ride.has_tilt) out_ << fmt::format("{:.4f},{:.4f}", e.ride.pitch_deg, e.ride.roll_deg);
-  else out_ << ',';
+  if (e.ride.has_pitch) out_ << fmt::format("{:.4f}", e.ride.pitch_deg);
+  out_ << ',';
+  if (e.ride.has_roll) out_ << fmt::format("{:.4f}", e.ride.roll_deg);
   out_ << ',' << dots_found << ',' << source_word(e.scale_source) << '\n';
 }
 
@@ -75,9 +76,12 @@ std::vector<RideRow> read_ride_csv(const std::filesystem::path& file) {
         r.ride.has_height = true;
         r.ride.height_mm = std::stod(f[2]);
       }
-      if (!f[3].empty() && !f[4].empty()) {
-        r.ride.has_tilt = true;
+      if (!f[3].empty()) {
+        r.ride.has_pitch = true;
         r.ride.pitch_deg = std::stod(f[3]);
+      }
+      if (!f[4].empty()) {
+        r.ride.has_roll = true;
         r.ride.roll_deg = std::stod(f[4]);
       }
       r.dots_found = std::stoi(f[5]);
@@ -115,11 +119,15 @@ RideReport evaluate_ride(const std::vector<drivers::TruthRecord>& truth, const s
       dh.push_back(m.height_mm - t.height_mm.value_or(nominal_mm));
     }
     bool wrong = m.has_height && std::abs(m.height_mm - t.height_mm.value_or(nominal_mm)) > RideReport::kWrongHeightMm;
-    if (m.has_tilt) {
-      ++rep.with_tilt;
+    if (m.has_pitch) {
+      ++rep.with_pitch;
       dp.push_back(m.pitch_deg - t.pitch_deg.value_or(0.0));
+      wrong = wrong || std::abs(dp.back()) > RideReport::kWrongTiltDeg;
+    }
+    if (m.has_roll) {
+      ++rep.with_roll;
       dr.push_back(m.roll_deg - t.roll_deg.value_or(0.0));
-      wrong = wrong || std::abs(dp.back()) > RideReport::kWrongTiltDeg || std::abs(dr.back()) > RideReport::kWrongTiltDeg;
+      wrong = wrong || std::abs(dr.back()) > RideReport::kWrongTiltDeg;
     }
     if (wrong) ++rep.wrong;
   }
@@ -133,8 +141,9 @@ RideReport evaluate_ride(const std::vector<drivers::TruthRecord>& truth, const s
 
 std::string format_ride_table(const RideReport& r) {
   std::string s = "\nRide height from the laser dots (measured - truth):\n";
-  s += fmt::format("  frames {}, with height {} ({:.2f} %), with pitch and roll {}\n", r.frames, r.with_height,
-                   100.0 * r.coverage(), r.with_tilt);
+  s += fmt::format("  frames {}, with height {} ({:.2f} %), with pitch {} ({:.2f} %), with roll {} ({:.2f} %)\n",
+                   r.frames, r.with_height, 100.0 * r.coverage(), r.with_pitch, 100.0 * r.coverage(r.with_pitch),
+                   r.with_roll, 100.0 * r.coverage(r.with_roll));
   s += fmt::format("  wrong (off by more than {} mm or {} deg): {} frames\n", RideReport::kWrongHeightMm,
                    RideReport::kWrongTiltDeg, r.wrong);
   s += fmt::format("  {:<10} {:>10} {:>10} {:>10}\n", "", "mean", "RMS", "max |e|");

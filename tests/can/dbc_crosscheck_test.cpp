@@ -182,14 +182,20 @@ TEST(DbcCrossCheck, TypedEncodersMatchDbc) {
   TimingMsg t{2500, 4321, 3};
   expect_signals(encode_timing(t, ids, 1), "GVS_Timing",
                  {{"GVS_Exposure", 2500}, {"GVS_ProcessingTime", 4321}, {"GVS_LateWakeups", 3}});
-  RideHeightMsg r{true, true, ScaleSourceCode::LaserDots, 61.23, -1.47, 0.92, 4};
+  RideHeightMsg r{true, true, true, ScaleSourceCode::LaserDots, 61.23, -1.47, 0.92, 4};
   expect_signals(encode_ride_height(r, ids, 2), "GVS_RideHeight",
-                 {{"GVS_HeightValid", 1}, {"GVS_TiltValid", 1}, {"GVS_ScaleSource", 1}, {"GVS_Height", 61.23},
-                  {"GVS_Pitch", -1.47}, {"GVS_Roll", 0.92}, {"GVS_HeightAge", 4}});
-  RideHeightMsg none{false, false, ScaleSourceCode::Nominal, 61.23, -1.47, 0.92, 255};
+                 {{"GVS_HeightValid", 1}, {"GVS_PitchValid", 1}, {"GVS_RollValid", 1}, {"GVS_ScaleSource", 1},
+                  {"GVS_Height", 61.23}, {"GVS_Pitch", -1.47}, {"GVS_Roll", 0.92}, {"GVS_HeightAge", 4}});
+  // The roll without the pitch (three dots without dot 0 or 1), its bit the
+  // message's last beside the oldest age the 7 bits hold.
+  RideHeightMsg roll_only{true, false, true, ScaleSourceCode::LaserDots, 61.23, -1.47, 0.92, 127};
+  expect_signals(encode_ride_height(roll_only, ids, 2), "GVS_RideHeight",
+                 {{"GVS_HeightValid", 1}, {"GVS_PitchValid", 0}, {"GVS_RollValid", 1}, {"GVS_ScaleSource", 1},
+                  {"GVS_Height", 61.23}, {"GVS_Pitch", 0}, {"GVS_Roll", 0.92}, {"GVS_HeightAge", 127}});
+  RideHeightMsg none{false, false, false, ScaleSourceCode::Nominal, 61.23, -1.47, 0.92, 127};
   expect_signals(encode_ride_height(none, ids, 2), "GVS_RideHeight",
-                 {{"GVS_HeightValid", 0}, {"GVS_TiltValid", 0}, {"GVS_ScaleSource", 0}, {"GVS_Height", 0},
-                  {"GVS_Pitch", 0}, {"GVS_Roll", 0}, {"GVS_HeightAge", 255}});
+                 {{"GVS_HeightValid", 0}, {"GVS_PitchValid", 0}, {"GVS_RollValid", 0}, {"GVS_ScaleSource", 0},
+                  {"GVS_Height", 0}, {"GVS_Pitch", 0}, {"GVS_Roll", 0}, {"GVS_HeightAge", 127}});
 }
 
 TEST(DbcCrossCheck, E2eHeaderReadThroughDbc) {

@@ -67,11 +67,12 @@ ExampleCase ride_height_case(const RideHeightMsg& m, std::uint8_t counter) {
   ExampleCase c{"GVS_RideHeight", encode_ride_height(m, MessageIds{}, counter), {}};
   add_header(c);
   c.expect["GVS_HeightValid"] = m.height_valid;
-  c.expect["GVS_TiltValid"] = m.tilt_valid;
+  c.expect["GVS_PitchValid"] = m.pitch_valid;
+  c.expect["GVS_RollValid"] = m.roll_valid;
   c.expect["GVS_ScaleSource"] = static_cast<double>(m.scale_source);
   c.expect["GVS_Height"] = m.height_valid ? m.height_mm : 0.0;
-  c.expect["GVS_Pitch"] = m.tilt_valid ? m.pitch_deg : 0.0;
-  c.expect["GVS_Roll"] = m.tilt_valid ? m.roll_deg : 0.0;
+  c.expect["GVS_Pitch"] = m.pitch_valid ? m.pitch_deg : 0.0;
+  c.expect["GVS_Roll"] = m.roll_valid ? m.roll_deg : 0.0;
   c.expect["GVS_HeightAge"] = m.age_ms;
   return c;
 }
@@ -98,10 +99,11 @@ std::vector<ExampleCase> example_cases() {
   cases.push_back(status_case({SensorState::Degraded, kFaultImplausible, 0, 0, 0, 0}, 12));
   cases.push_back(timing_case({65535, 0, 255}, 10));
   cases.push_back(timing_case({1234, 5678, 9}, 11));
-  cases.push_back(ride_height_case({true, true, ScaleSourceCode::LaserDots, 60.37, -1.25, 0.84, 3}, 0));
-  cases.push_back(ride_height_case({true, true, ScaleSourceCode::LaserDots, 655.35, 20.47, -20.47, 0}, 15));
-  cases.push_back(ride_height_case({true, false, ScaleSourceCode::External, 58.12, 0.0, 0.0, 4}, 1));
-  cases.push_back(ride_height_case({false, false, ScaleSourceCode::Nominal, 0.0, 0.0, 0.0, 255}, 2));
+  cases.push_back(ride_height_case({true, true, true, ScaleSourceCode::LaserDots, 60.37, -1.25, 0.84, 3}, 0));
+  cases.push_back(ride_height_case({true, true, true, ScaleSourceCode::LaserDots, 655.35, 20.47, -20.47, 0}, 15));
+  cases.push_back(ride_height_case({true, false, true, ScaleSourceCode::LaserDots, 59.80, 0.0, -0.42, 126}, 3));
+  cases.push_back(ride_height_case({true, false, false, ScaleSourceCode::External, 58.12, 0.0, 0.0, 4}, 1));
+  cases.push_back(ride_height_case({false, false, false, ScaleSourceCode::Nominal, 0.0, 0.0, 0.0, 127}, 2));
   return cases;
 }
 

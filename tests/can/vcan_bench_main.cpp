@@ -120,7 +120,7 @@ BusEstimate estimate_for_cycle(int cycle, std::int64_t t_ns) {
   e.quality = 0.75;
   e.method_code = 33;
   e.scale_source = ScaleSourceCode::LaserDots;
-  e.has_height = e.has_tilt = true;
+  e.has_height = e.has_pitch = e.has_roll = true;
   e.height_mm = 60.0 + 0.01 * cycle;
   e.pitch_deg = -0.5 + 0.01 * cycle;
   e.roll_deg = 0.25;
@@ -223,7 +223,7 @@ int traffic(const std::string& iface) {
             std::fabs(mon.velocity_xy().vx_mps - last.vx_mps) <= 0.0025 + 1e-9,
         "last GVS_VelocityXY: valid, age 7 ms, vx matches");
   check(mon.status().state == SensorState::Running && mon.status().faults == 0, "GVS_Status running, no faults");
-  check(mon.ride_height().height_valid && mon.ride_height().tilt_valid &&
+  check(mon.ride_height().height_valid && mon.ride_height().pitch_valid && mon.ride_height().roll_valid &&
             mon.ride_height().scale_source == ScaleSourceCode::LaserDots && mon.ride_height().age_ms == 7 &&
             std::fabs(mon.ride_height().height_mm - 60.99) <= 0.005 + 1e-9 &&
             std::fabs(mon.ride_height().pitch_deg - 0.49) <= 0.005 + 1e-9,

@@ -44,7 +44,7 @@ TEST(ExternalHeight, ScalesTheVelocityByHeightOverNominal) {
   EXPECT_EQ(e.yaw_rate_dps, before.yaw_rate_dps);
   EXPECT_TRUE(e.ride.has_height);
   EXPECT_EQ(e.ride.height_mm, 63.0);
-  EXPECT_FALSE(e.ride.has_tilt);
+  EXPECT_FALSE(e.ride.has_pitch || e.ride.has_roll);
   EXPECT_EQ(e.scale_source, core::ScaleSource::external);
 }
 
@@ -162,7 +162,7 @@ TEST(ExternalHeightPipeline, SpeedScaledByTheSensorsHeightAndTheBusSaysExternal)
     EXPECT_EQ(msgs.velocity_xy[i].decoded.xy.scale_source, can::ScaleSourceCode::External);
     EXPECT_TRUE(r.height_valid);
     EXPECT_NEAR(r.height_mm, 66.0, 0.005 + 1e-9);
-    EXPECT_FALSE(r.tilt_valid);
+    EXPECT_FALSE(r.pitch_valid || r.roll_valid);
     EXPECT_EQ(r.scale_source, can::ScaleSourceCode::External);
   }
   // How many go out valid (fresh) depends on the machine's spare CPU; every

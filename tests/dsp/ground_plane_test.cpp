@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <string>
 #include <tuple>
 
 #include "gvs/core/laser_geometry.hpp"
@@ -32,7 +33,7 @@ TEST(GroundPlane, ExactPointsGiveTheirPlane) {
       return core::Vec3{x, y, -(n.x * x + n.y * y) / n.z - h};
     };
     const core::RideHeight r = ground_from_points(on_plane(14, 3), on_plane(-14, -3), on_plane(0, -20), 0.0);
-    ASSERT_TRUE(r.has_height && r.has_tilt);
+    ASSERT_TRUE(r.has_height && r.has_tilt());
     EXPECT_NEAR(r.height_mm, h, 1e-9);
     EXPECT_NEAR(r.pitch_deg, pitch, 1e-9);
     EXPECT_NEAR(r.roll_deg, roll, 1e-9);
@@ -50,7 +51,7 @@ TEST(GroundPlane, FourPointsFitTheirPlaneAndShowAPointOffIt) {
   std::array<core::Vec3, 4> p = {on_plane(14, 3), on_plane(-14, -3), on_plane(0, -20), on_plane(0, 20)};
   double residual = -1.0;
   const core::RideHeight r = ground_from_fit(p.data(), 4, 0.0, residual);
-  ASSERT_TRUE(r.has_height && r.has_tilt);
+  ASSERT_TRUE(r.has_height && r.has_tilt());
   EXPECT_NEAR(r.height_mm, h, 1e-9);
   EXPECT_NEAR(r.pitch_deg, pitch, 1e-9);
   EXPECT_NEAR(r.roll_deg, roll, 1e-9);
@@ -84,7 +85,7 @@ TEST(GroundPlane, TheTiltDoubtBoundsWhatOneWrongPointCanHide) {
       p[k].z += e_mm;
       double residual = 0.0;
       const core::RideHeight r = ground_from_fit(p.data(), 4, 0.0, residual);
-      ASSERT_TRUE(r.has_tilt);
+      ASSERT_TRUE(r.has_tilt());
       const double tilt_error = std::hypot(r.pitch_deg - pitch, r.roll_deg - roll);
       const double bound = tilt_doubt_deg(p.data(), 4, residual);
       EXPECT_LE(tilt_error, bound * 1.002) << "dot " << k << ", " << e_mm << " mm";
@@ -100,46 +101,49 @@ TEST(GroundPlane, TheTiltDoubtBoundsWhatOneWrongPointCanHide) {
   EXPECT_TRUE(std::isinf(tilt_doubt_deg(truth.data(), 3, 0.0))) << "three points: a wrong one is not seen";
 }
 
-TEST(GroundPlane, TheTiltSigmaIsTheScatterOfTheFittedTilt) {
+TEST(GroundPlane, TheTiltSigmasAreTheScatterOfTheFittedPitchAndRoll) {
   // The design's points on a level plane, each height disturbed by 0.034 mm
-  // (a dot's scatter on the procedural asphalt): the fitted tilt's RMS along
-  // its worst direction (the larger eigenvalue of the pitch/roll errors'
-  // covariance) is tilt_sigma_deg, for four points and for three.
+  // (a dot's scatter on the procedural asphalt): the fitted pitch's and
+  // roll's RMS are tilt_sigma_deg's, for four points and for three, with
+  // the head mounted straight and turned by 30 deg.
   const std::array<core::Vec3, 4> design = {core::Vec3{14, 3, -60}, core::Vec3{-14, -3, -60}, core::Vec3{0, -20, -60},
                                             core::Vec3{0, 20, -60}};
   const double scatter_mm = 0.034;
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, scatter_mm);
   const LaserDotFinder::Thresholds defaults;
-  for (const std::size_t missing : {std::size_t{4}, std::size_t{0}, std::size_t{2}}) {
-    std::array<core::Vec3, 4> p{};
-    std::size_t n = 0;
-    for (std::size_t k = 0; k < 4; ++k)
-      if (k != missing) p[n++] = design[k];
-    const double predicted = tilt_sigma_deg(p.data(), n, scatter_mm);
-    double spp = 0.0, srr = 0.0, spr = 0.0;
-    const int trials = 4000;
-    for (int t = 0; t < trials; ++t) {
-      std::array<core::Vec3, 4> q = p;
-      for (std::size_t k = 0; k < n; ++k) q[k].z += noise(rng);
-      double residual = 0.0;
-      const core::RideHeight r = ground_from_fit(q.data(), n, 0.0, residual);
-      ASSERT_TRUE(r.has_tilt);
-      spp += r.pitch_deg * r.pitch_deg;
-      srr += r.roll_deg * r.roll_deg;
-      spr += r.pitch_deg * r.roll_deg;
+  for (const double mount_yaw_deg : {0.0, 30.0}) {
+    for (const std::size_t missing : {std::size_t{4}, std::size_t{0}, std::size_t{2}}) {
+      std::array<core::Vec3, 4> p{};
+      std::size_t n = 0;
+      for (std::size_t k = 0; k < 4; ++k)
+        if (k != missing) p[n++] = design[k];
+      const TiltSigma predicted = tilt_sigma_deg(p.data(), n, scatter_mm, mount_yaw_deg);
+      double spp = 0.0, srr = 0.0;
+      const int trials = 4000;
+      for (int t = 0; t < trials; ++t) {
+        std::array<core::Vec3, 4> q = p;
+        for (std::size_t k = 0; k < n; ++k) q[k].z += noise(rng);
+        double residual = 0.0;
+        const core::RideHeight r = ground_from_fit(q.data(), n, mount_yaw_deg, residual);
+        ASSERT_TRUE(r.has_tilt());
+        spp += r.pitch_deg * r.pitch_deg;
+        srr += r.roll_deg * r.roll_deg;
+      }
+      const std::string where = "without dot " + std::to_string(missing) + ", yaw " + std::to_string(mount_yaw_deg);
+      EXPECT_NEAR(std::sqrt(spp / trials), predicted.pitch_deg, 0.05 * predicted.pitch_deg) << where;
+      EXPECT_NEAR(std::sqrt(srr / trials), predicted.roll_deg, 0.05 * predicted.roll_deg) << where;
+      if (mount_yaw_deg != 0.0) continue;
+      // Without dot 0 the pitch (over one dot's 14 mm) is past the finder's
+      // bar and the roll (dots 2 and 3, 40 mm apart) within it; four, and
+      // three without dot 2, are within it in both.
+      EXPECT_EQ(predicted.pitch_deg > defaults.max_tilt_sigma_deg, missing == 0) << where << ": " << predicted.pitch_deg;
+      EXPECT_LE(predicted.roll_deg, defaults.max_tilt_sigma_deg) << where;
     }
-    spp /= trials;
-    srr /= trials;
-    spr /= trials;
-    const double worst = std::sqrt(0.5 * (spp + srr) + std::hypot(0.5 * (spp - srr), spr));
-    EXPECT_NEAR(worst, predicted, 0.05 * predicted) << "without dot " << missing;
-    // Three without dot 0 (the pitch over one dot's 14 mm) is past the
-    // finder's bar; four, and three without dot 2, are within it.
-    EXPECT_EQ(predicted > defaults.max_tilt_sigma_deg, missing == 0) << "without dot " << missing << ": " << predicted;
   }
   const std::array<core::Vec3, 3> line = {core::Vec3{0, 0, -60}, core::Vec3{10, 0, -60}, core::Vec3{20, 0, -60}};
-  EXPECT_TRUE(std::isinf(tilt_sigma_deg(line.data(), 3, scatter_mm)));
+  const TiltSigma in_line = tilt_sigma_deg(line.data(), 3, scatter_mm, 0.0);
+  EXPECT_TRUE(std::isinf(in_line.pitch_deg) && std::isinf(in_line.roll_deg));
 }
 
 TEST(GroundPlane, TriangulationFindsThePointOnTheBeam) {
@@ -167,7 +171,7 @@ TEST(GroundPlane, ScaleFollowsTheHeightAndTheTilt) {
   // Pitch alone: the image centre sees ground lengths along x stretched by
   // 1 / cos(pitch), along y unchanged (camera_view.hpp: A = diag(1, cos p), R_zz = cos p).
   r.height_mm = kNominalMm;
-  r.has_tilt = true;
+  r.has_pitch = r.has_roll = true;
   r.pitch_deg = 1.5;
   vx = 10.0;
   vy = 2.0;

@@ -63,7 +63,7 @@ TEST(LaserDots, TheFourthDotRefusesABrightGrainTakenForADot) {
   const LaserDotResult four = finder.find(near);
   EXPECT_EQ(four.found, 4U);
   EXPECT_FALSE(four.ride.has_height);
-  EXPECT_FALSE(four.ride.has_tilt);
+  EXPECT_FALSE(four.ride.has_pitch || four.ride.has_roll);
 
   // 40 px along: a plane through the grain tilts beyond any car's pitch, so
   // only the other three make a ground, and they measure it.
@@ -95,7 +95,7 @@ TEST(LaserDots, FourDotsThatDisagreeEnoughToHideAWrongTiltKeepTheHeightOnly) {
   LevelScene scene;
   auto& [c, f, finder, clean] = scene;
   ASSERT_EQ(clean.found, 4U);
-  ASSERT_TRUE(clean.ride.has_tilt);
+  ASSERT_TRUE(clean.ride.has_tilt());
   LaserDotFinder::Thresholds no_doubt = finder.thresholds();
   no_doubt.max_tilt_doubt_deg = 90.0;
   LaserDotFinder trusting(c.camera, kNominalMm, c.lasers);
@@ -107,12 +107,13 @@ TEST(LaserDots, FourDotsThatDisagreeEnoughToHideAWrongTiltKeepTheHeightOnly) {
     ASSERT_EQ(res.found, 4U) << shift_px << " px";
     ASSERT_TRUE(res.ride.has_height) << shift_px << " px";
     EXPECT_NEAR(res.ride.height_mm, clean.ride.height_mm, 0.15) << shift_px << " px";
-    ASSERT_TRUE(trusted.ride.has_tilt);
+    ASSERT_TRUE(trusted.ride.has_tilt());
     if (shift_px < 2.0) {
-      EXPECT_TRUE(res.ride.has_tilt) << "a dot 0.1 mm off hides at most 0.2 deg";
+      EXPECT_TRUE(res.ride.has_tilt()) << "a dot 0.1 mm off hides at most 0.2 deg";
     } else {
       EXPECT_GT(std::abs(trusted.ride.pitch_deg - clean.ride.pitch_deg), 0.5) << "the tilt it would have sent";
-      EXPECT_FALSE(res.ride.has_tilt) << "pitch " << trusted.ride.pitch_deg << " against " << clean.ride.pitch_deg;
+      EXPECT_FALSE(res.ride.has_pitch || res.ride.has_roll)
+          << "pitch " << trusted.ride.pitch_deg << " against " << clean.ride.pitch_deg;
     }
   }
 }
@@ -149,25 +150,29 @@ TEST(LaserDots, TheFourthDotIsFoundWhereTheOtherThreePutItUnderABrighterGrain) {
   EXPECT_FALSE(finder.find(blotted(both, clean.dots[3])).ride.has_height);
 }
 
-TEST(LaserDots, ThreeDotsWithoutDotZeroOrOneKeepTheHeightNotTheTilt) {
+TEST(LaserDots, ThreeDotsWithoutDotZeroOrOneKeepTheHeightAndRollNotThePitch) {
   // Dot 0 not seen (blotted out): the pitch then rests on dot 1 alone
   // against the x = 0 line of dots 2 and 3 (1.7 times the four dots'
-  // scatter), nothing checks it, and the frame keeps its height only.
-  // Without dot 2 the pitch rests on dots 0 and 1 and the tilt goes out.
+  // scatter), nothing checks it, and the frame keeps its height and its
+  // roll (dots 2 and 3, 40 mm apart). Without dot 2 the pitch rests on
+  // dots 0 and 1 and both angles go out.
   LevelScene scene;
   auto& [c, f, finder, clean] = scene;
   ASSERT_EQ(clean.found, 4U);
-  ASSERT_TRUE(clean.ride.has_tilt);
+  ASSERT_TRUE(clean.ride.has_tilt());
   const LaserDotResult no0 = finder.find(blotted(f.gray, clean.dots[0]));
   EXPECT_EQ(no0.found, 3U);
   ASSERT_TRUE(no0.ride.has_height);
   EXPECT_NEAR(no0.ride.height_mm, clean.ride.height_mm, 0.1);
-  EXPECT_FALSE(no0.ride.has_tilt);
+  EXPECT_FALSE(no0.ride.has_pitch);
+  ASSERT_TRUE(no0.ride.has_roll);
+  EXPECT_NEAR(no0.ride.roll_deg, clean.ride.roll_deg, 0.2);
   const LaserDotResult no2 = finder.find(blotted(f.gray, clean.dots[2]));
   EXPECT_EQ(no2.found, 3U);
   ASSERT_TRUE(no2.ride.has_height);
-  EXPECT_TRUE(no2.ride.has_tilt);
+  EXPECT_TRUE(no2.ride.has_tilt());
   EXPECT_NEAR(no2.ride.pitch_deg, clean.ride.pitch_deg, 0.2);
+  EXPECT_NEAR(no2.ride.roll_deg, clean.ride.roll_deg, 0.2);
 }
 
 TEST(LaserDots, GrainsOutshiningOneDotDoNotHideItFromTheOtherThree) {
@@ -187,7 +192,7 @@ TEST(LaserDots, GrainsOutshiningOneDotDoNotHideItFromTheOtherThree) {
     const LaserDotResult res = finder.find(*frame);
     EXPECT_EQ(res.found, 4U) << (frame == &one ? "one grain" : "two grains") << ", dot 0 "
                              << static_cast<int>(res.dots[0].status);
-    ASSERT_TRUE(res.ride.has_height && res.ride.has_tilt);
+    ASSERT_TRUE(res.ride.has_height && res.ride.has_tilt());
     EXPECT_NEAR(res.dots[0].row, clean.dots[0].row, 0.5);
     EXPECT_NEAR(res.dots[0].col, clean.dots[0].col, 0.5);
     EXPECT_NEAR(res.ride.height_mm, clean.ride.height_mm, 0.05);

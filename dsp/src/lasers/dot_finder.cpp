@@ -280,22 +280,23 @@ LaserDotResult LaserDotFinder::detect(const cv::Mat& gray) {
 }
 
 void LaserDotFinder::withhold_doubtful_tilt(LaserDotResult& out) const {
-  if (!out.ride.has_tilt) return;
+  if (!out.ride.has_tilt()) return;
   std::array<core::Vec3, core::LaserGeometry::kMaxBeams> points{};
   std::size_t n = 0;
   for (std::size_t k = 0; k < lasers_.count; ++k)
     if (out.dots[k].found) points[n++] = out.dots[k].ground_mm;
-  // Four dots show their own disagreement; three show none, and are judged
-  // by how far the dots' usual scatter tilts them.
-  bool doubtful = false;
+  // Four dots show their own disagreement; three show none, and each angle
+  // is judged by how far the dots' usual scatter moves it.
   if (n >= 4) {
     double residual_mm = 0.0;
     (void)ground_from_fit(points.data(), n, camera_.mount_yaw_deg, residual_mm);
-    doubtful = tilt_doubt_deg(points.data(), n, residual_mm) > thresholds_.max_tilt_doubt_deg;
-  } else {
-    doubtful = tilt_sigma_deg(points.data(), n, thresholds_.dot_scatter_mm) > thresholds_.max_tilt_sigma_deg;
+    if (tilt_doubt_deg(points.data(), n, residual_mm) > thresholds_.max_tilt_doubt_deg)
+      out.ride.has_pitch = out.ride.has_roll = false;
+    return;
   }
-  if (doubtful) out.ride.has_tilt = false;
+  const TiltSigma sigma = tilt_sigma_deg(points.data(), n, thresholds_.dot_scatter_mm, camera_.mount_yaw_deg);
+  if (sigma.pitch_deg > thresholds_.max_tilt_sigma_deg) out.ride.has_pitch = false;
+  if (sigma.roll_deg > thresholds_.max_tilt_sigma_deg) out.ride.has_roll = false;
 }
 
 bool LaserDotFinder::smeared_dots(const LaserDotResult& out, double age_s, double exposure_us) const {
@@ -329,14 +330,14 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
         if (out.dots[k].found) ++out.found;
     }
   }
-  const bool smeared = out.ride.has_tilt && has_prior_ && age_s > 0.0 && smeared_dots(out, age_s, exposure_us);
-  if (out.ride.has_height && out.ride.has_tilt) remember_plane(out, t_ns);
+  const bool smeared = out.ride.has_tilt() && has_prior_ && age_s > 0.0 && smeared_dots(out, age_s, exposure_us);
+  if (out.ride.has_height && out.ride.has_tilt()) remember_plane(out, t_ns);
   for (std::size_t k = 0; k < lasers_.count; ++k) std::copy(responses_[k].begin(), responses_[k].end(), last_responses_[k].begin());
   has_last_responses_ = true;
   last_responses_t_ns_ = t_ns;
   // After the plane is kept: step 5 steers by where the dots were.
   withhold_doubtful_tilt(out);
-  if (smeared) out.ride.has_tilt = false;
+  if (smeared) out.ride.has_pitch = out.ride.has_roll = false;
   return out;
 }
 

@@ -67,7 +67,7 @@ core::RideHeight ground_from_normal(core::Vec3 n, const core::Vec3& p, double mo
   const double m = core::deg_to_rad(mount_yaw_deg);
   const double nx = std::cos(m) * n.x - std::sin(m) * n.y;
   const double ny = std::sin(m) * n.x + std::cos(m) * n.y;
-  ride.has_tilt = true;
+  ride.has_pitch = ride.has_roll = true;
   ride.pitch_deg = core::rad_to_deg(-std::asin(nx));
   ride.roll_deg = core::rad_to_deg(std::atan2(ny, n.z));
   return ride;
@@ -131,19 +131,27 @@ double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_re
   return core::rad_to_deg(std::atan(worst_rad_per_mm * max_residual_mm));
 }
 
-double tilt_sigma_deg(const core::Vec3* points, std::size_t count, double point_scatter_mm) {
-  if (count < 3) return std::numeric_limits<double>::infinity();
+TiltSigma tilt_sigma_deg(const core::Vec3* points, std::size_t count, double point_scatter_mm,
+                         double mount_yaw_deg) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (count < 3) return {kInf, kInf};
   const PointScatter s = scatter_about_mean(points, count);
-  // The smaller eigenvalue of the symmetric [Sxx Sxy; Sxy Syy].
-  const double half_trace = 0.5 * (s.sxx + s.syy);
-  const double lambda_min = half_trace - std::hypot(0.5 * (s.sxx - s.syy), s.sxy);
-  if (!(lambda_min > 1e-6 * half_trace)) return std::numeric_limits<double>::infinity();  // points in a line
-  return core::rad_to_deg(std::atan(point_scatter_mm / std::sqrt(lambda_min)));
+  const double det = s.sxx * s.syy - s.sxy * s.sxy;
+  if (!(det > 1e-6 * (s.sxx + s.syy) * (s.sxx + s.syy))) return {kInf, kInf};  // points in a line
+  // C = S^-1 = [Syy -Sxy; -Sxy Sxx] / det, turned by the mount yaw m as the
+  // normal is in ground_from_normal: (R C R^T)_xx and _yy, R = [c -s; s c].
+  const double cxx = s.syy / det, cyy = s.sxx / det, cxy = -s.sxy / det;
+  const double m = core::deg_to_rad(mount_yaw_deg);
+  const double c = std::cos(m), sn = std::sin(m);
+  const double var_pitch = c * c * cxx - 2.0 * c * sn * cxy + sn * sn * cyy;
+  const double var_roll = sn * sn * cxx + 2.0 * c * sn * cxy + c * c * cyy;
+  return {core::rad_to_deg(std::atan(point_scatter_mm * std::sqrt(var_pitch))),
+          core::rad_to_deg(std::atan(point_scatter_mm * std::sqrt(var_roll)))};
 }
 
 void correct_velocity(const core::RideHeight& ride, double nominal_height_mm, double& vx_mps, double& vy_mps) {
   const double k = ride.height_mm / nominal_height_mm;
-  if (!ride.has_tilt) {
+  if (!ride.has_tilt()) {
     vx_mps *= k;
     vy_mps *= k;
     return;

@@ -65,12 +65,13 @@ struct StatusMsg {
 /// GVS_RideHeight. A value whose valid flag is false is sent as 0.
 struct RideHeightMsg {
   bool height_valid = false;
-  bool tilt_valid = false;  ///< pitch and roll
+  bool pitch_valid = false;
+  bool roll_valid = false;
   ScaleSourceCode scale_source = ScaleSourceCode::Nominal;
   double height_mm = 0.0;  ///< camera above the ground
   double pitch_deg = 0.0;  ///< ISO 8855: + = nose down
   double roll_deg = 0.0;   ///< ISO 8855: + = right side down
-  std::uint32_t age_ms = 255;  ///< age of the measurement at send time; saturates at 255 (= none or older)
+  std::uint32_t age_ms = 127;  ///< age of the measurement at send time; saturates at 127 (= none or older)
 };
 
 struct TimingMsg {
@@ -119,8 +120,9 @@ struct BusEstimate {
   ScaleSourceCode scale_source = ScaleSourceCode::Nominal;  ///< the height speed, vx, vy are scaled with
   bool has_height = false;  ///< the camera's height, measured for this estimate's instant
   double height_mm = 0.0;
-  bool has_tilt = false;  ///< pitch and roll, measured for this estimate's instant
+  bool has_pitch = false;  ///< measured for this estimate's instant
   double pitch_deg = 0.0;
+  bool has_roll = false;  ///< measured for this estimate's instant
   double roll_deg = 0.0;
 };
 

@@ -125,16 +125,17 @@ inline constexpr SignalSpec kRideHeightSignals[] = {
     {"GVS_CRC",          0,  8, false, 1.0,  0.0,    0.0,   255.0, ""},
     {"GVS_Counter",      8,  4, false, 1.0,  0.0,    0.0,    15.0, ""},
     {"GVS_HeightValid", 12,  1, false, 1.0,  0.0,    0.0,     1.0, ""},
-    {"GVS_TiltValid",   13,  1, false, 1.0,  0.0,    0.0,     1.0, ""},
+    {"GVS_PitchValid",  13,  1, false, 1.0,  0.0,    0.0,     1.0, ""},
     {"GVS_ScaleSource", 14,  2, false, 1.0,  0.0,    0.0,     3.0, ""},
     {"GVS_Height",      16, 16, false, 0.01, 0.0,    0.0,  655.35, "mm"},
     {"GVS_Pitch",       32, 12, true,  0.01, 0.0, -20.47,   20.47, "deg"},
     {"GVS_Roll",        44, 12, true,  0.01, 0.0, -20.47,   20.47, "deg"},
-    {"GVS_HeightAge",   56,  8, false, 1.0,  0.0,    0.0,   255.0, "ms"},
+    {"GVS_HeightAge",   56,  7, false, 1.0,  0.0,    0.0,   127.0, "ms"},
+    {"GVS_RollValid",   63,  1, false, 1.0,  0.0,    0.0,     1.0, ""},
 };
 namespace sig_ride_height {
-inline constexpr std::size_t kHeightValid = 2, kTiltValid = 3, kScaleSource = 4, kHeight = 5, kPitch = 6,
-                             kRoll = 7, kHeightAge = 8;
+inline constexpr std::size_t kHeightValid = 2, kPitchValid = 3, kScaleSource = 4, kHeight = 5, kPitch = 6,
+                             kRoll = 7, kHeightAge = 8, kRollValid = 9;
 }
 
 inline constexpr MessageSpec kMessages[kMessageKindCount] = {

@@ -26,9 +26,13 @@ enum class ScaleSource : std::uint8_t {
 struct RideHeight {
   bool has_height = false;
   double height_mm = 0.0;  ///< camera's optical centre above the ground, along the vehicle z axis
-  bool has_tilt = false;
+  bool has_pitch = false;
   double pitch_deg = 0.0;
+  bool has_roll = false;
   double roll_deg = 0.0;
+
+  /// Both angles of the plane: what the scale correction's tilt needs.
+  [[nodiscard]] bool has_tilt() const { return has_pitch && has_roll; }
 };
 
 }  // namespace gvs::core

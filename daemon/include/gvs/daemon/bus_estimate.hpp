@@ -34,8 +34,9 @@ inline can::BusEstimate bus_estimate(const core::VelocityEstimate& e) noexcept {
   b.scale_source = static_cast<can::ScaleSourceCode>(e.scale_source);
   b.has_height = e.ride.has_height;
   b.height_mm = e.ride.height_mm;
-  b.has_tilt = e.ride.has_tilt;
+  b.has_pitch = e.ride.has_pitch;
   b.pitch_deg = e.ride.pitch_deg;
+  b.has_roll = e.ride.has_roll;
   b.roll_deg = e.ride.roll_deg;
   return b;
 }

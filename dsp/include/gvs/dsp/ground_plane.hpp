@@ -55,15 +55,15 @@ bool beam_on_plane(const core::LaserBeam& beam, const core::Vec3& p1, const core
                    core::Vec3& point_mm);
 
 /// Height at the optical axis and the ground's pitch and roll (vehicle
-/// axes, ISO 8855) from three ground points in head axes. has_height and
-/// has_tilt stay false when the points are (nearly) in a line.
+/// axes, ISO 8855) from three ground points in head axes. has_height,
+/// has_pitch and has_roll stay false when the points are (nearly) in a line.
 core::RideHeight ground_from_points(const core::Vec3& p1, const core::Vec3& p2, const core::Vec3& p3,
                                     double mount_yaw_deg);
 
 /// Height, pitch and roll from the least-squares plane through `count` (3 or
 /// more) ground points in head axes, and the largest point's distance from
-/// it (`max_residual_mm`). has_height and has_tilt stay false when the
-/// points do not fix a plane.
+/// it (`max_residual_mm`). has_height, has_pitch and has_roll stay false
+/// when the points do not fix a plane.
 core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, double mount_yaw_deg,
                                  double& max_residual_mm);
 
@@ -79,20 +79,27 @@ core::RideHeight ground_from_fit(const core::Vec3* points, std::size_t count, do
 /// three points (nothing to see a wrong one by).
 double tilt_doubt_deg(const core::Vec3* points, std::size_t count, double max_residual_mm);
 
-/// The scatter of the least-squares plane's tilt, deg, along the direction
-/// its points fix most loosely, when each point's height scatters by
-/// `point_scatter_mm` on its own: least squares gives the slopes' covariance
-/// s^2 S^-1 (S the points' scatter matrix about their mean, as above), so
-/// the loosest direction scatters by s / sqrt(lambda_min(S)) rad (dilution
-/// of precision; any regression text: Cov(b) = s^2 (X^T X)^-1). The design's
-/// four dots: 2.96 deg per mm of point scatter (pitch over dots 0 and 1);
-/// without dot 0 or 1, 5.0 (pitch over one dot's 14 mm); without dot 2 or
-/// 3, 3.7. Infinite when the points do not fix a plane.
-double tilt_sigma_deg(const core::Vec3* points, std::size_t count, double point_scatter_mm);
+/// The scatter of the least-squares plane's pitch and of its roll, deg
+/// (vehicle axes), when each point's height scatters by `point_scatter_mm`
+/// on its own: least squares gives the slopes' covariance s^2 S^-1 (S the
+/// points' scatter matrix about their mean, as above; any regression text:
+/// Cov(b) = s^2 (X^T X)^-1), turned into vehicle axes by the mount yaw
+/// (C = R S^-1 R^T), and each angle scatters by s sqrt(C_ii) rad. The
+/// design's four dots: pitch 2.9 deg per mm of point scatter (over dots 0
+/// and 1, 28 mm apart), roll 2.0 (over dots 2 and 3, 40 mm); without dot 0
+/// or 1, pitch 5.0 (over one dot's 14 mm) and roll 2.0; without dot 2 or 3,
+/// 3.0 and 3.5. Infinite when the points do not fix a plane.
+struct TiltSigma {
+  double pitch_deg = 0.0;
+  double roll_deg = 0.0;
+};
+TiltSigma tilt_sigma_deg(const core::Vec3* points, std::size_t count, double point_scatter_mm,
+                         double mount_yaw_deg);
 
 /// The scale correction of point 3 above: v = (H / H0) (A / R_zz) v_nominal
-/// (vehicle axes, m/s). `ride` must have has_height; without has_tilt the
-/// ground is taken as level.
+/// (vehicle axes, m/s). `ride` must have has_height; without both its pitch
+/// and its roll the ground is taken as level (the tilt's share is second
+/// order: 0.03 % at 1.5 deg).
 void correct_velocity(const core::RideHeight& ride, double nominal_height_mm, double& vx_mps, double& vy_mps);
 
 }  // namespace gvs::dsp

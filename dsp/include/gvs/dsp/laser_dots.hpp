@@ -11,8 +11,9 @@
 // checks the plane (the four must agree) and stands in for a dot not found,
 // and where no plane of the brightest spots holds, or one of three only, a
 // plane of three is checked by a fourth dot found where they put it, not the
-// track's brightest (a three-dot plane's tilt goes out only where the dots'
-// usual scatter moves it little: not without dot 0 or 1; no plane of three
+// track's brightest (a three-dot plane's pitch and roll go out each only
+// where the dots' usual scatter moves it little: without dot 0 or 1 the
+// roll and not the pitch; no plane of three
 // goes out whose fourth dot shows a few pixels beside where it puts it);
 // failing that (a standing car over grains as bright as a dot), the four
 // dots are looked for where they brightened since the last frame, moved
@@ -75,8 +76,9 @@ struct LaserDot {
 struct LaserDotResult {
   std::array<LaserDot, core::LaserGeometry::kMaxBeams> dots{};
   std::size_t found = 0;
-  /// has_height / has_tilt only with a plausible plane of at least three
-  /// dots; four that disagree by enough to hide a wrong tilt keep the height only.
+  /// has_height / has_pitch / has_roll only with a plausible plane of at
+  /// least three dots; four that disagree by enough to hide a wrong tilt
+  /// keep the height only, three keep each angle their layout fixes.
   core::RideHeight ride;
 };
 
@@ -129,13 +131,14 @@ class LaserDotFinder {
     /// of residual for the design, so 0.06 mm); past it the height stays
     /// (one dot moves it by a quarter of its error) and the tilt does not.
     double max_tilt_doubt_deg = 0.5;
-    /// A plane of three dots (nothing checks it) goes out with its tilt only
-    /// when the dots' usual scatter, dot_scatter_mm each (the asphalt's
-    /// reflectance under the spot: the procedural asphalt's 0.034 mm, the
-    /// roughest seen), tilts it by at most this RMS, deg (tilt_sigma_deg in
-    /// ground_plane.hpp), so that max_tilt_doubt_deg is 3.3 of its sigmas
-    /// away. Without dot 2 or 3: 0.13 deg; without dot 0 or 1 (the pitch over
-    /// one dot's 14 mm): 0.17, which keeps its height only. (Four: 0.10.)
+    /// A plane of three dots (nothing checks it) goes out with its pitch, and
+    /// with its roll, only when the dots' usual scatter, dot_scatter_mm each
+    /// (the asphalt's reflectance under the spot: the procedural asphalt's
+    /// 0.034 mm, the roughest seen), moves that angle by at most this RMS,
+    /// deg (tilt_sigma_deg in ground_plane.hpp), so that max_tilt_doubt_deg
+    /// is 3.3 of its sigmas away. Without dot 2 or 3: pitch 0.10, roll 0.12
+    /// deg; without dot 0 or 1: pitch 0.17 (over one dot's 14 mm), which
+    /// goes out without it, roll 0.07. (Four: 0.10 and 0.07.)
     double max_tilt_sigma_deg = 0.15;
     double dot_scatter_mm = 0.034;
     /// Step 5: how fast the camera's height may change, mm/s: a kerb strike
@@ -186,7 +189,7 @@ class LaserDotFinder {
   /// Steps 1-4 on this frame alone.
   LaserDotResult detect(const cv::Mat& gray);
   /// Drops the tilt of a four-dot plane past Thresholds::max_tilt_doubt_deg,
-  /// or of a three-dot plane past Thresholds::max_tilt_sigma_deg.
+  /// or the pitch or roll of a three-dot plane past Thresholds::max_tilt_sigma_deg.
   void withhold_doubtful_tilt(LaserDotResult& out) const;
   /// Whether a dot that ran `run_px` along track `t` within the light is
   /// smeared: more than Thresholds::max_smear_sigmas of its spot.

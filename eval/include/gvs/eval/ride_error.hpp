@@ -47,7 +47,8 @@ std::vector<RideRow> read_ride_csv(const std::filesystem::path& file);
 struct RideReport {
   std::size_t frames = 0;       ///< truth rows with a height
   std::size_t with_height = 0;  ///< of those, a measured height
-  std::size_t with_tilt = 0;
+  std::size_t with_pitch = 0;
+  std::size_t with_roll = 0;
   ErrorStats height_mm;  ///< measured - truth
   ErrorStats pitch_deg;
   ErrorStats roll_deg;
@@ -60,8 +61,10 @@ struct RideReport {
   /// and of those left at the nominal scale (dots not found).
   ErrorStats speed_pct_dots;
   ErrorStats speed_pct_nominal;
-  [[nodiscard]] double coverage() const {
-    return frames > 0 ? static_cast<double>(with_height) / static_cast<double>(frames) : 0.0;
+  /// The share of the frames with a height (or with `measured` of them).
+  [[nodiscard]] double coverage() const { return coverage(with_height); }
+  [[nodiscard]] double coverage(std::size_t measured) const {
+    return frames > 0 ? static_cast<double>(measured) / static_cast<double>(frames) : 0.0;
   }
 };
 
