@@ -163,6 +163,44 @@ TEST(LaserDots, DirtOverTwoDotsGivesNoHeight) {
   EXPECT_FALSE(res2.ride.has_height);
 }
 
+TEST(LaserDots, AFaintFourthDotWhereThreeFoundDotsPutItCounts) {
+  // Dot 0 dimmed step by step (a dark stone under it): where it no longer
+  // stands step 2's 4 robust sigmas above its track, it is still looked
+  // for where dots 1-3 put it, with min_sigmas_where_put (3) there. So the
+  // plane keeps its four dots, and its pitch, over a range of dimming where
+  // the bar of step 2 would leave three (height and roll only); a dot
+  // blotted out is not made up.
+  LevelScene scene;
+  auto& [c, f, finder, clean] = scene;
+  ASSERT_EQ(clean.found, 4U);
+  ASSERT_TRUE(clean.ride.has_tilt());
+  LaserDotFinder step2_bar(c.camera, kNominalMm, c.lasers);
+  LaserDotFinder::Thresholds t = step2_bar.thresholds();
+  t.min_sigmas_where_put = t.min_sigmas;
+  step2_bar.set_thresholds(t);
+  int kept_only_by_the_lower_bar = 0;
+  for (int step = 30; step >= 0; --step) {
+    const double gain = 0.01 * step;
+    const cv::Mat dim = with_grains(f.gray, {}, {&clean.dots[0]}, gain, clean.dots[0].mask_background_dn);
+    const LaserDotResult res = finder.find(dim);
+    const LaserDotResult old = step2_bar.find(dim);
+    ASSERT_TRUE(res.ride.has_height) << "gain " << gain;
+    EXPECT_NEAR(res.ride.height_mm, clean.ride.height_mm, 0.05) << "gain " << gain;
+    if (res.ride.has_pitch) {
+      EXPECT_EQ(res.found, 4U) << "gain " << gain;
+      EXPECT_NEAR(res.ride.pitch_deg, clean.ride.pitch_deg, 0.2) << "gain " << gain;
+      EXPECT_NEAR(res.dots[0].row, clean.dots[0].row, 1.0) << "gain " << gain;
+      EXPECT_NEAR(res.dots[0].col, clean.dots[0].col, 1.0) << "gain " << gain;
+    }
+    EXPECT_TRUE(res.ride.has_pitch || !old.ride.has_pitch) << "gain " << gain << ": the lower bar loses a pitch";
+    if (res.ride.has_pitch && !old.ride.has_pitch) ++kept_only_by_the_lower_bar;
+    if (step == 0) {
+      EXPECT_FALSE(res.ride.has_pitch) << "blotted out: three dots";
+    }
+  }
+  EXPECT_GE(kept_only_by_the_lower_bar, 2);
+}
+
 TEST(LaserDots, DotsThatRanAlongTheirTracksWithinTheLightKeepTheHeightNotTheTilt) {
   // The body rising at 90 mm/s (9 px per 16.7 ms along each track) under a
   // double pulse whose pulses are 6.6 ms apart: each dot is imaged twice,

@@ -3,8 +3,9 @@
 // only one of three dots, each plausible plane of three predicts where the
 // fourth beam meets the ground; if its track shows a dot there (bright by
 // the same rule as any dot, only not the brightest: a white grain elsewhere
-// on the track outshines it), the four are fitted and must agree as four
-// found dots do.
+// on the track outshines it; and, behind three found dots, 3 robust sigmas
+// for step 2's 4: a known place, not a whole track), the four are fitted and
+// must agree as four found dots do.
 // A grain is then masked beside the dot (on a contested track whose two
 // spots both missed the plane, the dot is a third spot: it and the rival
 // are masked, the grain taken first is ground again). A plane of three
@@ -79,7 +80,11 @@ void LaserDotFinder::fourth_where_three_put_it(const cv::Mat& gray, LaserDotResu
         const auto si = static_cast<std::size_t>(i);
         if (best == n || responses_[fourth][si] > responses_[fourth][best]) best = si;
       }
-      if (!stands_out(fourth, best)) continue;
+      // The lower bar only where the three are dots step 2 found: among a
+      // contested track's spots (grains as bright as a dot) a faint fourth
+      // would choose a plane of grains as readily as the dots'.
+      const bool three_found = choices[0] == 1 && choices[1] == 1 && choices[2] == 1;
+      if (!stands_out(fourth, best, three_found ? thresholds_.min_sigmas_where_put : thresholds_.min_sigmas)) continue;
       Candidate c4;
       if (measure(gray, fourth, best, c4) != DotStatus::found) continue;
       p[3] = c4.ground_mm;

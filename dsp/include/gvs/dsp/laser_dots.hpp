@@ -110,6 +110,13 @@ class LaserDotFinder {
     /// Its response stands this many robust sigmas (1.4826 MAD of the
     /// responses along the track) above the track ...
     double min_sigmas = 4.0;
+    /// The fourth dot looked for where three put it (step 4) needs only
+    /// this many where the three are dots step 2 found: within 5 samples of
+    /// a known place, not anywhere along a track of hundreds, the same
+    /// chance of a noise peak passing asks about one sigma less (Gaussian
+    /// tails: 4 sigma over 350 samples and 2.9 over 5 both pass about 1 %
+    /// of tracks without a dot).
+    double min_sigmas_where_put = 3.0;
     /// ... and at least this bright over the ground around it, DN ...
     double min_contrast_dn = 12.0;
     /// ... and no rival elsewhere on the track reaches this fraction of it.
@@ -209,8 +216,11 @@ class LaserDotFinder {
   /// Step 2's bars on track k's response at `sample` (contrast and robust
   /// sigmas), without the rival rule.
   [[nodiscard]] bool stands_out(std::size_t k, std::size_t sample) const {
+    return stands_out(k, sample, thresholds_.min_sigmas);
+  }
+  [[nodiscard]] bool stands_out(std::size_t k, std::size_t sample, double min_sigmas) const {
     const double response = responses_[k][sample];
-    return response >= thresholds_.min_contrast_dn && response - median_[k] >= thresholds_.min_sigmas * spread_[k];
+    return response >= thresholds_.min_contrast_dn && response - median_[k] >= min_sigmas * spread_[k];
   }
   void fourth_where_three_put_it(const cv::Mat& gray, LaserDotResult& out) const;
   /// With three dots of four found: whether the fourth beam's track shows a
