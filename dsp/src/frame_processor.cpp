@@ -65,9 +65,8 @@ core::VelocityEstimate FrameProcessor::process(const core::FrameView& frame) {
   // brings the frame into the cache for the tracks' scattered reads.
   core::FrameView view = frame;
   if (finder_) {
-    frame.gray.copyTo(masked_);
-    dots_ = finder_->find(masked_, core::mid_exposure_ns(frame.t_ns, frame.exposure), frame.exposure.exposure_us);
-    finder_->mask(dots_, masked_);
+    dots_ = finder_->find_and_mask(frame.gray, masked_, core::mid_exposure_ns(frame.t_ns, frame.exposure),
+                                   frame.exposure.exposure_us);
     view.gray = masked_;
   }
   if (have_previous_) {

@@ -49,10 +49,7 @@ std::vector<EstimatorStage> make_stages() {
                  auto finder = std::make_shared<dsp::LaserDotFinder>(head.camera, head.nominal_height_mm, head.lasers);
                  auto copy = std::make_shared<cv::Mat>(in.size, CV_8UC1);
                  return [&in, finder, copy](std::size_t i) {
-                   in.gray[i].copyTo(*copy);
-                   const dsp::LaserDotResult found = finder->find(*copy);
-                   finder->mask(found, *copy);
-                   g_sink = found.ride.height_mm;
+                   g_sink = finder->find_and_mask(in.gray[i], *copy).ride.height_mm;
                  };
                },
                [](const StageInputs& in) { return in.lasers ? frames(in) : std::size_t{0}; }, true});

@@ -56,9 +56,7 @@ void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
   std::int64_t n = 0, with_height = 0;
   for (auto _ : state) {
     const cv::Mat& gray = frames[static_cast<std::size_t>(n) % frames.size()].gray;
-    gray.copyTo(masked);
-    const dsp::LaserDotResult r = finder.find(masked);
-    finder.mask(r, masked);
+    const dsp::LaserDotResult r = finder.find_and_mask(gray, masked);
     benchmark::DoNotOptimize(masked.data);
     with_height += r.ride.has_height ? 1 : 0;
     ++n;

@@ -2,7 +2,8 @@
 // "Height from the laser dots", "Wrong dots"): a grain refused by the fourth
 // dot; four that disagree keep the height only; the fourth found where three
 // put it under a brighter grain; three dots without dot 0 or 1 keep the
-// height only; a standing car's dots where they brightened since the last frame.
+// height only; a standing car's dots where they brightened since the last frame,
+// four or three of them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -290,6 +291,56 @@ TEST(LaserDots, AStandingCarsDotsAreFoundWhereTheyBrightenedMovedTogetherFromThe
   ASSERT_TRUE(forgetful.find(frame0, t_mid(f0), plan.exposure_us).ride.has_height);
   forgetful.forget();
   EXPECT_FALSE(forgetful.find(frame1, t_mid(f1), plan.exposure_us).ride.has_height);
+}
+
+TEST(LaserDots, AStandingCarsThreeDotsThatBrightenedGiveThePlaneWhereTheFourthLiesOnADarkStone) {
+  // The scene above, and in the second frame dot 2 lands on a stone too dark
+  // to show it: three dots brightened, moved together by the heave, and
+  // their plane puts the fourth where the heave put it: the height, not the
+  // tilt (the dots' scatter on sharp ground). A spot that appears
+  // on the fourth track 8 px beside that point is the fourth dot elsewhere
+  // (one of the three is not a dot): no height.
+  drivers::SimulatorConfig c = laser_config();
+  const core::ExposurePlan plan = double_pulse();
+  drivers::SimFrame f0;
+  drivers::SimFrame f1;
+  drivers::Simulator(c, standing({0.0, 0.0, 0.0})).render(4, plan, f0);
+  drivers::Simulator(c, standing({0.6, 0.0, 0.0})).render(5, plan, f1);
+  LaserDotFinder alone(c.camera, kNominalMm, c.lasers);
+  const LaserDotResult clean0 = alone.find(f0.gray);
+  const LaserDotResult clean1 = alone.find(f1.gray);
+  ASSERT_EQ(clean0.found, 4U);
+  ASSERT_EQ(clean1.found, 4U);
+  std::vector<std::array<double, 2>> grains;
+  for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {
+    std::array<double, 2> g{};
+    along_track(c, clean0.dots[k], k, 40.0, g[0], g[1]);
+    grains.push_back(g);
+  }
+  const double background = clean0.dots[3].mask_background_dn;
+  const cv::Mat frame0 = with_grains(f0.gray, grains, {&clean0.dots[3]}, 0.5, background);
+  const cv::Mat frame1 =
+      blotted(with_grains(f1.gray, grains, {&clean1.dots[1], &clean1.dots[3]}, 0.5, background), clean1.dots[2]);
+  ASSERT_FALSE(alone.find(frame1).ride.has_height);
+  const auto t_mid = [&](const drivers::SimFrame& f) { return core::mid_exposure_ns(f.record.t_ns, plan); };
+
+  LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
+  ASSERT_TRUE(finder.find(frame0, t_mid(f0), plan.exposure_us).ride.has_height);
+  const LaserDotResult res = finder.find(frame1, t_mid(f1), plan.exposure_us);
+  ASSERT_TRUE(res.ride.has_height);
+  EXPECT_EQ(res.found, 3U);
+  EXPECT_FALSE(res.dots[2].found);
+  EXPECT_NEAR(res.ride.height_mm, clean1.ride.height_mm, 0.05);
+  // A standing car's three dots on sharp ground vouch for the height only.
+  EXPECT_FALSE(res.ride.has_pitch);
+  EXPECT_FALSE(res.ride.has_roll);
+
+  std::array<double, 2> beside{};
+  along_track(c, clean1.dots[2], 2, 8.0, beside[0], beside[1]);
+  const cv::Mat frame1_beside = with_grains(frame1, {beside}, {}, 1.0, clean1.dots[2].mask_background_dn);
+  LaserDotFinder doubting(c.camera, kNominalMm, c.lasers);
+  ASSERT_TRUE(doubting.find(frame0, t_mid(f0), plan.exposure_us).ride.has_height);
+  EXPECT_FALSE(doubting.find(frame1_beside, t_mid(f1), plan.exposure_us).ride.has_height);
 }
 
 }  // namespace

@@ -322,8 +322,9 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
   if (has_prior_ && !(age_s > 0.0 && age_s <= thresholds_.max_prior_age_s)) has_prior_ = false;
   const double since_last_s = static_cast<double>(t_ns - last_responses_t_ns_) * 1e-9;
   const bool last_frame = has_last_responses_ && since_last_s > 0.0 && since_last_s <= thresholds_.max_prior_age_s;
+  std::size_t brightened = 0;
   if (!out.ride.has_height && has_prior_ && last_frame && lasers_.count == 4) {
-    near_the_last_plane(gray, age_s, exposure_us, out);
+    brightened = near_the_last_plane(gray, age_s, exposure_us, out);
     if (out.ride.has_height) {
       out.found = 0;
       for (std::size_t k = 0; k < lasers_.count; ++k)
@@ -337,7 +338,11 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
   last_responses_t_ns_ = t_ns;
   // After the plane is kept: step 5 steers by where the dots were.
   withhold_doubtful_tilt(out);
-  if (smeared) out.ride.has_pitch = out.ride.has_roll = false;
+  // Three dots where they brightened are a standing car's on sharp ground,
+  // whose reflectance moves a centroid about twice as far as on the moving
+  // ground dot_scatter_mm stands for: either angle's sigma would pass
+  // max_tilt_sigma_deg. The plane still guides the next frame.
+  if (smeared || brightened == 3) out.ride.has_pitch = out.ride.has_roll = false;
   return out;
 }
 

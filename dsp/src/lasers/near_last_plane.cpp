@@ -11,7 +11,9 @@
 // Thresholds::max_height_rate_mm_per_s allows since the last plane, gives
 // each dot's place. Each must stand out there as a dot does in step 2, by
 // its brightening too, and the four must agree on one plane as four found
-// dots do; a grain taken for a dot by step 2 is masked beside it. Not where
+// dots do; or, with one dot on a stone too dark to show it, the other
+// three's plane must put it where the heave put it, with no brightening
+// beside. A grain taken for a dot by step 2 is masked beside it. Not where
 // the height changed so fast that the dots smeared along their tracks
 // within the exposure (Thresholds::max_smear_sigmas).
 #include <algorithm>
@@ -27,6 +29,10 @@ namespace {
 /// Samples either side of where the height change puts a dot: the tilt's
 /// change within a frame and the rounding.
 constexpr long kSideSamples = 2;
+/// Samples either side searched for the missing dot's brightening beside
+/// where three put it (fourth_dot.cpp's kBesideSamples: a grain taken for
+/// one of the three moves the point by up to about 15 px).
+constexpr long kBesideSamples = 15;
 
 }  // namespace
 
@@ -47,7 +53,7 @@ void LaserDotFinder::remember_plane(const LaserDotResult& out, std::int64_t t_ns
   prior_t_ns_ = t_ns;
 }
 
-void LaserDotFinder::near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out) {
+std::size_t LaserDotFinder::near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out) {
   constexpr std::size_t kBeams = 4;
   // The brightening along each track, and its median and robust spread.
   std::array<double, kBeams> median{}, spread{};
@@ -92,25 +98,65 @@ void LaserDotFinder::near_the_last_plane(const cv::Mat& gray, double age_s, doub
   const double rate_mm_per_us = std::abs(best_dh_mm) / (age_s * 1e6);
   for (std::size_t k = 0; k < kBeams; ++k) {
     const Track& t = tracks_[k];
-    if (smeared(t, rate_mm_per_us * exposure_us * t.px_per_mm_height)) return;
+    if (smeared(t, rate_mm_per_us * exposure_us * t.px_per_mm_height)) return 0;
   }
   std::array<Candidate, kBeams> dot{};
   std::array<std::size_t, kBeams> sample{};
   std::array<core::Vec3, kBeams> p{};
+  std::size_t appeared = 0;
+  std::size_t missing = kBeams;
   for (std::size_t k = 0; k < kBeams; ++k) {
-    const double brightened = brightening_at(k, prior_along_px_[k] + best_dh_mm * tracks_[k].px_per_mm_height, sample[k]);
-    // A dot by step 2's contrast, newly there by step 2's sigmas.
-    const bool appeared = responses_[k][sample[k]] >= thresholds_.min_contrast_dn &&
-                          brightened - median[k] >= thresholds_.min_sigmas * spread[k];
-    if (!appeared || measure(gray, k, sample[k], dot[k]) != DotStatus::found) return;
-    p[k] = dot[k].ground_mm;
+    // The most brightened sample where the height change puts dot k.
+    brightening_at(k, prior_along_px_[k] + best_dh_mm * tracks_[k].px_per_mm_height, sample[k]);
+    if (newly_there(k, sample[k], median[k], spread[k]) && measure(gray, k, sample[k], dot[k]) == DotStatus::found) {
+      p[appeared++] = dot[k].ground_mm;
+    } else {
+      missing = k;
+    }
   }
-  double residual_mm = 0.0;
-  const core::RideHeight ride = ground_from_fit(p.data(), kBeams, camera_.mount_yaw_deg, residual_mm);
-  if (residual_mm > thresholds_.max_plane_residual_mm || !plausible(ride)) return;
+  core::RideHeight ride;
+  if (appeared == kBeams) {
+    double residual_mm = 0.0;
+    ride = ground_from_fit(p.data(), kBeams, camera_.mount_yaw_deg, residual_mm);
+    if (residual_mm > thresholds_.max_plane_residual_mm) return 0;
+  } else if (appeared == kBeams - 1) {
+    // One dot on a patch too dark to show it: the other three moved together
+    // by the heave, and their plane must put the fourth where the heave put
+    // it (each of the three lies within kSideSamples of its own place, so
+    // the fourth within twice that), with no brightening beside that point
+    // (the fourth dot elsewhere: one of the three is not a dot).
+    double along = 0.0;
+    if (!along_where_plane_meets(missing, p[0], p[1], p[2], along)) return 0;
+    const double heave_along = prior_along_px_[missing] + best_dh_mm * tracks_[missing].px_per_mm_height;
+    if (std::abs(along - heave_along) > static_cast<double>(2 * kSideSamples)) return 0;
+    if (brightened_beside(missing, along, median[missing], spread[missing])) return 0;
+    ride = ground_from_points(p[0], p[1], p[2], camera_.mount_yaw_deg);
+  } else {
+    return 0;
+  }
+  if (!plausible(ride)) return 0;
   // The spot step 2 took for a dot stays masked as its rival.
-  for (std::size_t k = 0; k < kBeams; ++k) take_at(k, sample[k], dot[k], out.dots[k]);
+  for (std::size_t k = 0; k < kBeams; ++k) {
+    if (k != missing) {
+      take_at(k, sample[k], dot[k], out.dots[k]);
+    } else {
+      out.dots[k].found = false;
+    }
+  }
   out.ride = ride;
+  return appeared;
+}
+
+bool LaserDotFinder::brightened_beside(std::size_t k, double along, double median, double spread) const {
+  const auto n = static_cast<long>(tracks_[k].row.size());
+  const long centre = std::lround(along);
+  for (long d = kSideSamples + 1; d <= kBesideSamples; ++d) {
+    for (const long i : {centre - d, centre + d}) {
+      if (i < 0 || i >= n) continue;
+      if (newly_there(k, static_cast<std::size_t>(i), median, spread)) return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace gvs::dsp

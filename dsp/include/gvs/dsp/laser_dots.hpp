@@ -17,7 +17,8 @@
 // goes out whose fourth dot shows a few pixels beside where it puts it);
 // failing that (a standing car over grains as bright as a dot), the four
 // dots are looked for where they brightened since the last frame, moved
-// together by the body's heave from where the last plane put them.
+// together by the body's heave from where the last plane put them (three
+// of them, where the fourth lies on a stone too dark to show it).
 //
 // Pure: no I/O, threads or clocks; every buffer is made in the constructor.
 #pragma once
@@ -102,6 +103,23 @@ class LaserDotFinder {
   /// ground beside them, in place, so that the velocity estimators do not
   /// see spots that move with the height instead of the ground.
   void mask(const LaserDotResult& result, cv::Mat& gray) const;
+
+  /// What dsp::FrameProcessor does with each frame: `gray` copied into
+  /// `masked` (allocated only when its size or type differ), the dots found
+  /// in the copy and masked there. Each frame on its own, or of a sequence
+  /// (t_ns, exposure_us as find()'s).
+  LaserDotResult find_and_mask(const cv::Mat& gray, cv::Mat& masked) {
+    gray.copyTo(masked);
+    LaserDotResult found = find(masked);
+    mask(found, masked);
+    return found;
+  }
+  LaserDotResult find_and_mask(const cv::Mat& gray, cv::Mat& masked, std::int64_t t_ns, double exposure_us) {
+    gray.copyTo(masked);
+    LaserDotResult found = find(masked, t_ns, exposure_us);
+    mask(found, masked);
+    return found;
+  }
 
   [[nodiscard]] const core::LaserGeometry& lasers() const { return lasers_; }
 
@@ -227,7 +245,18 @@ class LaserDotFinder {
   /// dot (step 2's bars) a few pixels beside where their plane puts it, and
   /// brighter than there: the plane is off (one of the three a grain).
   [[nodiscard]] bool fourth_beside_where_three_put_it(const LaserDotResult& out) const;
-  void near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out);
+  /// Step 5: the plane of the dots where they brightened; returns how many
+  /// dots made it (4 or 3), 0 when none holds.
+  std::size_t near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out);
+  /// Step 5: whether track k at `sample` is a dot newly there: step 2's
+  /// contrast, and its brightening standing out by step 2's sigmas (of the
+  /// track's brightenings: `median`, `spread`).
+  [[nodiscard]] bool newly_there(std::size_t k, std::size_t sample, double median, double spread) const {
+    return responses_[k][sample] >= thresholds_.min_contrast_dn &&
+           brightening_[k][sample] - median >= thresholds_.min_sigmas * spread;
+  }
+  /// Step 5: whether track k shows a dot newly there 3-15 samples beside `along`.
+  [[nodiscard]] bool brightened_beside(std::size_t k, double along, double median, double spread) const;
   /// Median and 1.4826 MAD of values[0 .. n) (scratch_ is overwritten).
   void robust_spread(const std::vector<double>& values, std::size_t n, double& median, double& spread);
   void remember_plane(const LaserDotResult& out, std::int64_t t_ns);
