@@ -14,6 +14,7 @@
 #include "gvs/drivers/simulator.hpp"
 #include "gvs/dsp/frame_processor.hpp"
 #include "gvs/dsp/laser_dots.hpp"
+#include "laser_scene.hpp"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define GVS_ALLOC_HOOKS 0
@@ -117,6 +118,18 @@ TEST(LaserDotsAllocation, NoneOnTheFramePath) {
   EXPECT_EQ(finder_allocations, 0U);
   EXPECT_EQ(processor_allocations, 0U);
   EXPECT_GE(with_height, 10) << "the frames must hold dots the finder finds";
+
+  // Step 5 against the last plane's frame scaled by the heave: a standing
+  // car's faint dots (laser_scene.hpp).
+  const laser_test::HeavedStandingPair pair;
+  LaserDotFinder standing(pair.c.camera, laser_test::kNominalMm, pair.c.lasers);
+  (void)standing.find(pair.frame0, pair.t_mid(pair.f0), pair.plan.exposure_us);
+  g_allocations = 0;
+  t_armed = true;
+  const LaserDotResult scaled = standing.find(pair.frame1, pair.t_mid(pair.f1), pair.plan.exposure_us);
+  t_armed = false;
+  EXPECT_EQ(g_allocations.load(), 0U);
+  EXPECT_TRUE(scaled.ride.has_height) << "the scene must reach the scaled frame";
 #if GVS_ALLOC_HOOKS
   // The counter works: an allocation while armed is counted.
   g_allocations = 0;

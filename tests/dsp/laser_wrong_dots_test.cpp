@@ -343,5 +343,32 @@ TEST(LaserDots, AStandingCarsThreeDotsThatBrightenedGiveThePlaneWhereTheFourthLi
   EXPECT_FALSE(doubting.find(frame1_beside, t_mid(f1), plan.exposure_us).ride.has_height);
 }
 
+TEST(LaserDots, AStandingCarsFaintDotsShowAgainstTheLastPlanesFrameScaledByTheHeave) {
+  // HeavedStandingPair: the grains' edges left in the difference of the two
+  // frames as they are bury the two dimmed dots; against the first frame
+  // scaled by the height change all four stand out: the right height, and
+  // no tilt (faint dots on dark stones).
+  const HeavedStandingPair s;
+  ASSERT_EQ(s.clean0.found, 4U);
+  ASSERT_EQ(s.clean1.found, 4U);
+  ASSERT_NEAR(s.clean1.ride.height_mm - s.clean0.ride.height_mm, 1.0, 0.05);
+  LaserDotFinder alone(s.c.camera, kNominalMm, s.c.lasers);
+  ASSERT_FALSE(alone.find(s.frame1).ride.has_height);
+
+  LaserDotFinder finder(s.c.camera, kNominalMm, s.c.lasers);
+  const LaserDotResult first = finder.find(s.frame0, s.t_mid(s.f0), s.plan.exposure_us);
+  ASSERT_TRUE(first.ride.has_height && first.ride.has_tilt());
+  const LaserDotResult res = finder.find(s.frame1, s.t_mid(s.f1), s.plan.exposure_us);
+  ASSERT_TRUE(res.ride.has_height);
+  EXPECT_EQ(res.found, 4U);
+  EXPECT_NEAR(res.ride.height_mm, s.clean1.ride.height_mm, 0.05);
+  EXPECT_FALSE(res.ride.has_pitch);
+  EXPECT_FALSE(res.ride.has_roll);
+  for (const std::size_t k : {std::size_t{0}, std::size_t{2}}) {
+    EXPECT_NEAR(res.dots[k].row, s.clean1.dots[k].row, 1.0) << "dot " << k;
+    EXPECT_NEAR(res.dots[k].col, s.clean1.dots[k].col, 1.0) << "dot " << k;
+  }
+}
+
 }  // namespace
 }  // namespace gvs::dsp::laser_test

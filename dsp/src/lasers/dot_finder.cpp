@@ -1,5 +1,6 @@
 // See gvs/dsp/laser_dots.hpp and docs/estimator.md, "Height from the laser dots".
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <stdexcept>
@@ -104,6 +105,22 @@ LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nomina
       t.col.push_back(c);
     }
     if (t.row.size() < 8) fail("beam " + std::to_string(k) + ": its track is not in the frame");
+    // The pixels step 1 reads along the track, row by row (step 5 resamples
+    // only these).
+    std::vector<std::array<int, 2>> cols(static_cast<std::size_t>(camera.height_px),
+                                         {camera.width_px, -1});
+    for (std::size_t i = 0; i < t.row.size(); ++i) {
+      const auto r = static_cast<int>(std::lround(t.row[i])), c = static_cast<int>(std::lround(t.col[i]));
+      for (int rr = std::max(0, r - reach); rr <= std::min(camera.height_px - 1, r + reach); ++rr) {
+        auto& span = cols[static_cast<std::size_t>(rr)];
+        span[0] = std::min(span[0], std::max(0, c - reach));
+        span[1] = std::max(span[1], std::min(camera.width_px - 1, c + reach));
+      }
+    }
+    for (int r = 0; r < camera.height_px; ++r) {
+      const auto& span = cols[static_cast<std::size_t>(r)];
+      if (span[1] >= span[0]) t.pixels.push_back({r, span[0], span[1]});
+    }
     longest = std::max(longest, t.row.size());
   }
   for (std::size_t k = 0; k < lasers.count; ++k) {
@@ -111,8 +128,12 @@ LaserDotFinder::LaserDotFinder(const core::CameraGeometry& camera, double nomina
     backgrounds_[k].resize(longest);
     last_responses_[k].resize(longest);
     brightening_[k].resize(longest);
+    reference_responses_[k].resize(longest);
   }
   scratch_.resize(longest);
+  scratch_backgrounds_.resize(longest);
+  reference_gray_.create(camera.height_px, camera.width_px, CV_8UC1);
+  rescaled_.create(camera.height_px, camera.width_px, CV_8UC1);
 }
 
 void LaserDotFinder::robust_spread(const std::vector<double>& values, std::size_t n, double& median, double& spread) {
@@ -125,11 +146,10 @@ void LaserDotFinder::robust_spread(const std::vector<double>& values, std::size_
   spread = 1.4826 * *mid;
 }
 
-void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot) {
+void LaserDotFinder::track_responses(const cv::Mat& gray, std::size_t k, std::vector<double>& resp,
+                                     std::vector<double>& bgs) const {
   const Track& t = tracks_[k];
   const std::size_t n = t.row.size();
-  std::vector<double>& resp = responses_[k];
-  std::vector<double>& bgs = backgrounds_[k];
   // 1. Centre-surround along the track: mean over the spot minus the
   //    ground around it. The sums are whole numbers, carried from one
   //    sample to the next by the pixels that enter and leave (Track::steps).
@@ -140,7 +160,6 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
   };
   const auto inner_n = static_cast<double>(t.inner.size()), side_n = static_cast<double>(t.side.size());
   int inner = 0, side = 0, last_r = 0, last_c = 0;
-  std::size_t best = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto r = static_cast<int>(std::lround(t.row[i])), c = static_cast<int>(std::lround(t.col[i]));
     const int dr = r - last_r, dc = c - last_c;
@@ -156,8 +175,18 @@ void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot)
     last_c = c;
     bgs[i] = side / side_n;
     resp[i] = inner / inner_n - bgs[i];
-    if (resp[i] > resp[best]) best = i;
   }
+}
+
+void LaserDotFinder::find_one(const cv::Mat& gray, std::size_t k, LaserDot& dot) {
+  const Track& t = tracks_[k];
+  const std::size_t n = t.row.size();
+  std::vector<double>& resp = responses_[k];
+  std::vector<double>& bgs = backgrounds_[k];
+  track_responses(gray, k, resp, bgs);
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (resp[i] > resp[best]) best = i;
   // 2. Is it clearly there? Robust spread of the track's responses (median
   //    absolute deviation: the asphalt's texture and the sensor's noise).
   double median = 0.0;
@@ -322,7 +351,7 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
   if (has_prior_ && !(age_s > 0.0 && age_s <= thresholds_.max_prior_age_s)) has_prior_ = false;
   const double since_last_s = static_cast<double>(t_ns - last_responses_t_ns_) * 1e-9;
   const bool last_frame = has_last_responses_ && since_last_s > 0.0 && since_last_s <= thresholds_.max_prior_age_s;
-  std::size_t brightened = 0;
+  Brightened brightened = Brightened::none;
   if (!out.ride.has_height && has_prior_ && last_frame && lasers_.count == 4) {
     brightened = near_the_last_plane(gray, age_s, exposure_us, out);
     if (out.ride.has_height) {
@@ -332,7 +361,7 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
     }
   }
   const bool smeared = out.ride.has_tilt() && has_prior_ && age_s > 0.0 && smeared_dots(out, age_s, exposure_us);
-  if (out.ride.has_height && out.ride.has_tilt()) remember_plane(out, t_ns);
+  if (out.ride.has_height && out.ride.has_tilt()) remember_plane(gray, out, t_ns);
   for (std::size_t k = 0; k < lasers_.count; ++k) std::copy(responses_[k].begin(), responses_[k].end(), last_responses_[k].begin());
   has_last_responses_ = true;
   last_responses_t_ns_ = t_ns;
@@ -341,8 +370,12 @@ LaserDotResult LaserDotFinder::find(const cv::Mat& gray, std::int64_t t_ns, doub
   // Three dots where they brightened are a standing car's on sharp ground,
   // whose reflectance moves a centroid about twice as far as on the moving
   // ground dot_scatter_mm stands for: either angle's sigma would pass
-  // max_tilt_sigma_deg. The plane still guides the next frame.
-  if (smeared || brightened == 3) out.ride.has_pitch = out.ride.has_roll = false;
+  // max_tilt_sigma_deg. Dots found only against the scaled frame lie on
+  // stones dark enough to hide them from the first look, where the ground
+  // pulls a faint dot's centroid furthest. Their plane still guides the
+  // next frame.
+  if (smeared || brightened == Brightened::three || brightened == Brightened::scaled)
+    out.ride.has_pitch = out.ride.has_roll = false;
   return out;
 }
 

@@ -18,7 +18,8 @@
 // failing that (a standing car over grains as bright as a dot), the four
 // dots are looked for where they brightened since the last frame, moved
 // together by the body's heave from where the last plane put them (three
-// of them, where the fourth lies on a stone too dark to show it).
+// of them, where the fourth lies on a stone too dark to show it), and then
+// against the last plane's frame scaled by the heave.
 //
 // Pure: no I/O, threads or clocks; every buffer is made in the constructor.
 #pragma once
@@ -98,7 +99,7 @@ class LaserDotFinder {
   /// Thresholds::max_prior_age_s; each plane found is kept for the next
   /// frames. forget() drops it (a gap, a reset).
   LaserDotResult find(const cv::Mat& gray, std::int64_t t_ns, double exposure_us);
-  void forget() { has_prior_ = has_last_responses_ = false; }
+  void forget() { has_prior_ = has_last_responses_ = has_reference_ = false; }
   /// Blends the dots (and bright rivals on their tracks) of `result` into the
   /// ground beside them, in place, so that the velocity estimators do not
   /// see spots that move with the height instead of the ground.
@@ -197,6 +198,11 @@ class LaserDotFinder {
     double er = 1.0, ec = 0.0;
     double sigma_along_px = 1.0, sigma_across_px = 1.0;
     double px_per_mm_height = 10.0;  ///< along the track, per mm of level ground's height
+    /// Every pixel the responses along the track read: per row, first and last column.
+    struct RowSpan {
+      int row, first_col, last_col;
+    };
+    std::vector<RowSpan> pixels;
     std::vector<Offset> inner, side, window;  ///< the spot, the ring around it, the centroid's window
     /// The spot and its ring moved by one pixel (dr, dc in -1..1, index
     /// 3 (dr + 1) + dc + 1): the pixels that enter and leave each, from the
@@ -245,9 +251,30 @@ class LaserDotFinder {
   /// dot (step 2's bars) a few pixels beside where their plane puts it, and
   /// brighter than there: the plane is off (one of the three a grain).
   [[nodiscard]] bool fourth_beside_where_three_put_it(const LaserDotResult& out) const;
-  /// Step 5: the plane of the dots where they brightened; returns how many
-  /// dots made it (4 or 3), 0 when none holds.
-  std::size_t near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out);
+  /// Step 1 on track k of `gray`: the centre-surround response and the
+  /// ground around it at each sample.
+  void track_responses(const cv::Mat& gray, std::size_t k, std::vector<double>& resp, std::vector<double>& bgs) const;
+  /// Step 5's plane: none; four or three dots against the last frame;
+  /// dots against the last plane's frame scaled by the height change.
+  enum class Brightened : std::uint8_t { none, four, three, scaled };
+  Brightened near_the_last_plane(const cv::Mat& gray, double age_s, double exposure_us, LaserDotResult& out);
+  /// The height change since the last plane that lines up the four
+  /// brightenings best: the first of the best (where the dots are taken)
+  /// and the middle of their run (the scale of the image).
+  struct HeightChange {
+    double dh_mm = 0.0, scale_dh_mm = 0.0;
+  };
+  /// Step 5 on brightening_: its median and spread per track, and the height
+  /// change (false: the dots ran too far along their tracks within the
+  /// light at that rate).
+  bool brightened_height_change(double age_s, double exposure_us, double reach_mm, HeightChange& change);
+  /// Step 5: the most brightened sample within kSideSamples of `along` on track k.
+  double brightening_near(std::size_t k, double along, std::size_t& sample) const;
+  /// Step 5: the plane of the dots newly there where the height change puts
+  /// them (four, or three and the fourth on a dark stone); 0, 3 or 4.
+  std::size_t plane_where_brightened(const cv::Mat& gray, double dh_mm, LaserDotResult& out);
+  /// rescaled_: the last plane's frame as the camera sees it from `height_now_mm`.
+  void rescale_reference(double height_now_mm);
   /// Step 5: whether track k at `sample` is a dot newly there: step 2's
   /// contrast, and its brightening standing out by step 2's sigmas (of the
   /// track's brightenings: `median`, `spread`).
@@ -259,7 +286,7 @@ class LaserDotFinder {
   [[nodiscard]] bool brightened_beside(std::size_t k, double along, double median, double spread) const;
   /// Median and 1.4826 MAD of values[0 .. n) (scratch_ is overwritten).
   void robust_spread(const std::vector<double>& values, std::size_t n, double& median, double& spread);
-  void remember_plane(const LaserDotResult& out, std::int64_t t_ns);
+  void remember_plane(const cv::Mat& gray, const LaserDotResult& out, std::int64_t t_ns);
   /// Dot k is `c`, measured at `sample` of its track: found and masked
   /// there. What step 2 masked elsewhere on the track (a grain taken for the
   /// dot) stays masked, as the rival, where that slot is free or holds the dot.
@@ -283,6 +310,14 @@ class LaserDotFinder {
   bool has_last_responses_ = false;
   std::int64_t last_responses_t_ns_ = 0;
   std::array<std::vector<double>, core::LaserGeometry::kMaxBeams> last_responses_, brightening_;
+  std::array<double, core::LaserGeometry::kMaxBeams> brightening_median_{}, brightening_spread_{};
+  /// The last plane's frame and height: a standing car's ground as it was,
+  /// which scaled by the height's change shows the grains where they are now.
+  bool has_reference_ = false;
+  double reference_height_mm_ = 0.0;
+  cv::Mat reference_gray_, rescaled_;
+  std::array<std::vector<double>, core::LaserGeometry::kMaxBeams> reference_responses_;
+  std::vector<double> scratch_backgrounds_;
 };
 
 }  // namespace gvs::dsp
