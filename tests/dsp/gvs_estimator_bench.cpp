@@ -14,7 +14,8 @@
 // estimator's time over it (issue #22's target: at most 3). The per-stage
 // costs are in gvs_stage_bench.cpp (the same program).
 // BM_LaserDots: finding and masking the laser dots on the same kinds of
-// frame rendered with the design's dots.
+// frame rendered with the design's dots; BM_LaserDotsScaledLook: step 5 of a
+// sequence on a standing car (laser_scene.hpp).
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
@@ -25,6 +26,7 @@
 #include "gvs/dsp/estimator.hpp"
 #include "gvs/dsp/laser_dots.hpp"
 #include "gvs_bench_frames.hpp"
+#include "laser_scene.hpp"
 
 namespace {
 
@@ -57,6 +59,27 @@ void BM_LaserDots(benchmark::State& state, const FrameKind& kind) {
   for (auto _ : state) {
     const cv::Mat& gray = frames[static_cast<std::size_t>(n) % frames.size()].gray;
     const dsp::LaserDotResult r = finder.find_and_mask(gray, masked);
+    benchmark::DoNotOptimize(masked.data);
+    with_height += r.ride.has_height ? 1 : 0;
+    ++n;
+  }
+  state.counters["height_frac"] = n ? static_cast<double>(with_height) / static_cast<double>(n) : 0.0;
+}
+
+/// Step 5 of a sequence: a standing car's two frames of
+/// laser_scene.hpp's HeavedStandingPair, the second's plane found only
+/// against the first scaled by the heave; per iteration both frames (copy +
+/// find + mask, as FrameProcessor runs them), the finder forgetting the
+/// sequence in between. The counter is the share of second frames with a height.
+void BM_LaserDotsScaledLook(benchmark::State& state) {
+  const dsp::laser_test::HeavedStandingPair pair;
+  dsp::LaserDotFinder finder(pair.c.camera, dsp::laser_test::kNominalMm, pair.c.lasers);
+  cv::Mat masked = pair.frame0.clone();
+  std::int64_t n = 0, with_height = 0;
+  for (auto _ : state) {
+    finder.forget();
+    (void)finder.find_and_mask(pair.frame0, masked, pair.t_mid(pair.f0), pair.plan.exposure_us);
+    const dsp::LaserDotResult r = finder.find_and_mask(pair.frame1, masked, pair.t_mid(pair.f1), pair.plan.exposure_us);
     benchmark::DoNotOptimize(masked.data);
     with_height += r.ride.has_height ? 1 : 0;
     ++n;
@@ -99,6 +122,7 @@ void BM_Estimator(benchmark::State& state, const FrameKind& kind, const char* me
 }
 
 void register_all() {
+  benchmark::RegisterBenchmark("BM_LaserDotsScaledLook", BM_LaserDotsScaledLook)->Unit(benchmark::kMillisecond);
   for (const FrameKind& kind : bench::kKinds) {
     const std::string dots = std::string("BM_LaserDots/") + kind.name;
     benchmark::RegisterBenchmark(dots.c_str(), BM_LaserDots, kind)->Unit(benchmark::kMillisecond);

@@ -37,6 +37,13 @@ constexpr long kSideSamples = 2;
 /// one of the three moves the point by up to about 15 px).
 constexpr long kBesideSamples = 15;
 constexpr std::size_t kBeams = 4;
+/// The scaled look counts only where the last plane's frame, scaled,
+/// explains the ground along every track: the brightenings' robust spread
+/// at most this share of the responses' own. On the standing ground of the
+/// stored `brake` runs it is 0.15-0.4 (what is left is the sensor's noise);
+/// on ground that moved since (1-2 km/h in `const`) 1.7-2.2, as the
+/// difference of two unrelated textures gives (sqrt 2 and more).
+constexpr double kMaxUnexplainedSpread = 0.5;
 
 }  // namespace
 
@@ -85,6 +92,10 @@ LaserDotFinder::Brightened LaserDotFinder::near_the_last_plane(const cv::Mat& gr
     for (std::size_t i = 0; i < n; ++i) brightening_[k][i] = responses_[k][i] - reference_responses_[k][i];
   }
   if (!brightened_height_change(age_s, exposure_us, reach_mm, change)) return Brightened::none;
+  // Only where the scaled frame explains the ground: the ground has not
+  // moved, and the scale is right.
+  for (std::size_t k = 0; k < kBeams; ++k)
+    if (brightening_spread_[k] > kMaxUnexplainedSpread * spread_[k]) return Brightened::none;
   return plane_where_brightened(gray, change.dh_mm, out) > 0 ? Brightened::scaled : Brightened::none;
 }
 
