@@ -101,39 +101,47 @@ inline cv::Mat blotted(const cv::Mat& gray, const LaserDot& dot) {
   return with_grains(gray, {}, {&dot}, 0.0, dot.mask_background_dn);
 }
 
-/// A standing car on sharp ground (3 ms of continuous light) rising by
-/// 1 mm between two frames (the image scales by 1.7 %), with white grains
-/// on tracks 1 and 3 in both and, in the second, dots 0 and 2 dimmed to a
-/// fifth of their contrast (dark stones): no plane of the second frame's
-/// own spots holds, nor of the plain difference of the two; against the
-/// first scaled by the heave the four dots stand out.
-struct HeavedStandingPair {
+/// A standing car over white grains on tracks 1 and 3, 40 px along them
+/// from the dots, in both frames (the ground does not move); the body
+/// rises by `rise_mm` between them (frames 4 and 5 of `plan`).
+struct StandingPair {
   drivers::SimulatorConfig c = laser_config();
-  core::ExposurePlan plan = [] {
-    core::ExposurePlan p;
-    p.exposure_us = 3000.0;
-    return p;
-  }();
+  core::ExposurePlan plan;
   drivers::SimFrame f0, f1;
   LaserDotResult clean0, clean1;  ///< the frames as rendered, each alone
-  cv::Mat frame0, frame1;         ///< with the grains and the dimmed dots
-  HeavedStandingPair() {
+  std::vector<std::array<double, 2>> grains;
+  StandingPair(const core::ExposurePlan& light, double rise_mm) : plan(light) {
     drivers::Simulator(c, standing({0.0, 0.0, 0.0})).render(4, plan, f0);
-    drivers::Simulator(c, standing({1.0, 0.0, 0.0})).render(5, plan, f1);
+    drivers::Simulator(c, standing({rise_mm, 0.0, 0.0})).render(5, plan, f1);
     LaserDotFinder alone(c.camera, kNominalMm, c.lasers);
     clean0 = alone.find(f0.gray);
     clean1 = alone.find(f1.gray);
-    std::vector<std::array<double, 2>> grains;
     for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {
       std::array<double, 2> g{};
       along_track(c, clean0.dots[k], k, 40.0, g[0], g[1]);
       grains.push_back(g);
     }
-    frame0 = with_grains(f0.gray, grains, {}, 1.0, clean0.dots[0].mask_background_dn);
-    frame1 = with_grains(f1.gray, grains, {&clean1.dots[0], &clean1.dots[2]}, 0.2, clean1.dots[0].mask_background_dn);
   }
   [[nodiscard]] std::int64_t t_mid(const drivers::SimFrame& f) const {
     return core::mid_exposure_ns(f.record.t_ns, plan);
+  }
+};
+
+/// StandingPair on sharp ground (3 ms of continuous light) rising by 1 mm
+/// (the image scales by 1.7 %), dots 0 and 2 of the second frame dimmed to
+/// a fifth of their contrast (dark stones): no plane of the second frame's
+/// own spots holds, nor of the plain difference of the two; against the
+/// first scaled by the heave the four dots stand out.
+struct HeavedStandingPair : StandingPair {
+  cv::Mat frame0, frame1;  ///< with the grains and the dimmed dots
+  HeavedStandingPair() : StandingPair(continuous_3ms(), 1.0) {
+    frame0 = with_grains(f0.gray, grains, {}, 1.0, clean0.dots[0].mask_background_dn);
+    frame1 = with_grains(f1.gray, grains, {&clean1.dots[0], &clean1.dots[2]}, 0.2, clean1.dots[0].mask_background_dn);
+  }
+  static core::ExposurePlan continuous_3ms() {
+    core::ExposurePlan p;
+    p.exposure_us = 3000.0;
+    return p;
   }
 };
 

@@ -241,31 +241,19 @@ TEST(LaserDots, AStandingCarsDotsAreFoundWhereTheyBrightenedMovedTogetherFromThe
   // too: no plane of the frame's own spots holds (the frame alone gives no
   // height), but in the sequence the four dots are where the frame
   // brightened, moved together from the last plane: the right height.
-  drivers::SimulatorConfig c = laser_config();
-  const core::ExposurePlan plan = double_pulse();
-  drivers::SimFrame f0;
-  drivers::SimFrame f1;
-  drivers::Simulator(c, standing({0.0, 0.0, 0.0})).render(4, plan, f0);
-  drivers::Simulator(c, standing({0.6, 0.0, 0.0})).render(5, plan, f1);
-  LaserDotFinder alone(c.camera, kNominalMm, c.lasers);
-  const LaserDotResult clean0 = alone.find(f0.gray);
-  const LaserDotResult clean1 = alone.find(f1.gray);
+  const StandingPair s(double_pulse(), 0.6);
+  const auto& [c, plan, f0, f1, clean0, clean1, grains] = s;
   ASSERT_EQ(clean0.found, 4U);
   ASSERT_EQ(clean1.found, 4U);
   ASSERT_NEAR(clean1.ride.height_mm - clean0.ride.height_mm, 0.6, 0.05);
-  std::vector<std::array<double, 2>> grains;
-  for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {
-    std::array<double, 2> g{};
-    along_track(c, clean0.dots[k], k, 40.0, g[0], g[1]);
-    grains.push_back(g);
-  }
   const double background = clean0.dots[3].mask_background_dn;
   const cv::Mat frame0 = with_grains(f0.gray, grains, {&clean0.dots[3]}, 0.5, background);
   const cv::Mat frame1 = with_grains(f1.gray, grains, {&clean1.dots[1], &clean1.dots[3]}, 0.5, background);
+  LaserDotFinder alone(c.camera, kNominalMm, c.lasers);
   ASSERT_FALSE(alone.find(frame1).ride.has_height);
 
   LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
-  const auto t_mid = [&](const drivers::SimFrame& f) { return core::mid_exposure_ns(f.record.t_ns, plan); };
+  const auto t_mid = [&s](const drivers::SimFrame& f) { return s.t_mid(f); };
   const LaserDotResult first = finder.find(frame0, t_mid(f0), plan.exposure_us);
   ASSERT_TRUE(first.ride.has_height);
   EXPECT_NEAR(first.ride.height_mm, clean0.ride.height_mm, 0.05);
@@ -300,29 +288,17 @@ TEST(LaserDots, AStandingCarsThreeDotsThatBrightenedGiveThePlaneWhereTheFourthLi
   // tilt (the dots' scatter on sharp ground). A spot that appears
   // on the fourth track 8 px beside that point is the fourth dot elsewhere
   // (one of the three is not a dot): no height.
-  drivers::SimulatorConfig c = laser_config();
-  const core::ExposurePlan plan = double_pulse();
-  drivers::SimFrame f0;
-  drivers::SimFrame f1;
-  drivers::Simulator(c, standing({0.0, 0.0, 0.0})).render(4, plan, f0);
-  drivers::Simulator(c, standing({0.6, 0.0, 0.0})).render(5, plan, f1);
-  LaserDotFinder alone(c.camera, kNominalMm, c.lasers);
-  const LaserDotResult clean0 = alone.find(f0.gray);
-  const LaserDotResult clean1 = alone.find(f1.gray);
+  const StandingPair s(double_pulse(), 0.6);
+  const auto& [c, plan, f0, f1, clean0, clean1, grains] = s;
   ASSERT_EQ(clean0.found, 4U);
   ASSERT_EQ(clean1.found, 4U);
-  std::vector<std::array<double, 2>> grains;
-  for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {
-    std::array<double, 2> g{};
-    along_track(c, clean0.dots[k], k, 40.0, g[0], g[1]);
-    grains.push_back(g);
-  }
   const double background = clean0.dots[3].mask_background_dn;
   const cv::Mat frame0 = with_grains(f0.gray, grains, {&clean0.dots[3]}, 0.5, background);
   const cv::Mat frame1 =
       blotted(with_grains(f1.gray, grains, {&clean1.dots[1], &clean1.dots[3]}, 0.5, background), clean1.dots[2]);
+  LaserDotFinder alone(c.camera, kNominalMm, c.lasers);
   ASSERT_FALSE(alone.find(frame1).ride.has_height);
-  const auto t_mid = [&](const drivers::SimFrame& f) { return core::mid_exposure_ns(f.record.t_ns, plan); };
+  const auto t_mid = [&s](const drivers::SimFrame& f) { return s.t_mid(f); };
 
   LaserDotFinder finder(c.camera, kNominalMm, c.lasers);
   ASSERT_TRUE(finder.find(frame0, t_mid(f0), plan.exposure_us).ride.has_height);
