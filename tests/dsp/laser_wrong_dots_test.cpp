@@ -346,5 +346,30 @@ TEST(LaserDots, AStandingCarsFaintDotsShowAgainstTheLastPlanesFrameScaledByTheHe
   }
 }
 
+TEST(LaserDots, FourGrainsOnAPlaneTiltedPastTheLimitDiagonallyAreNotTheGround) {
+  // A standing car 1.5 mm above the nominal height, white grains on tracks 1
+  // and 3 brighter than their dots, dots 0 and 2 on dark stones (0.4 of
+  // their contrast): the two grains and two of the ground's own grains on
+  // tracks 0 and 2 agree on one plane within 0.1 mm, 3.2 mm too high,
+  // pitched by 2.8 deg and rolled by 2.5 (each within max_tilt_deg, together
+  // 3.7 deg). The ground does not tilt that far in any direction: no height
+  // rather than that one.
+  core::ExposurePlan plan;
+  plan.exposure_us = 3000.0;
+  const StandingPair s(plan, 1.5);
+  const cv::Mat frame = with_grains(s.f1.gray, s.grains, {&s.clean1.dots[0], &s.clean1.dots[2]}, 0.4,
+                                    s.clean1.dots[0].mask_background_dn);
+  LaserDotFinder finder(s.c.camera, kNominalMm, s.c.lasers);
+  const LaserDotResult res = finder.find(frame);
+  if (res.ride.has_height) {
+    EXPECT_NEAR(res.ride.height_mm, s.clean1.ride.height_mm, 0.15);
+  }
+  for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {
+    const bool on_grain = res.dots[k].found && std::hypot(res.dots[k].row - s.grains[k == 1 ? 0 : 1][0],
+                                                          res.dots[k].col - s.grains[k == 1 ? 0 : 1][1]) < 3.0;
+    EXPECT_FALSE(on_grain && res.ride.has_height) << "dot " << k << " taken on the grain, and a height given";
+  }
+}
+
 }  // namespace
 }  // namespace gvs::dsp::laser_test

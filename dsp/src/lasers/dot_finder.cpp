@@ -129,7 +129,7 @@ void LaserDotFinder::take_at(std::size_t k, std::size_t sample, const Candidate&
 
 bool LaserDotFinder::plausible(const core::RideHeight& ride) const {
   return ride.has_height && ride.height_mm >= lasers_.min_height_mm && ride.height_mm <= lasers_.max_height_mm &&
-         std::abs(ride.pitch_deg) <= thresholds_.max_tilt_deg && std::abs(ride.roll_deg) <= thresholds_.max_tilt_deg;
+         std::hypot(ride.pitch_deg, ride.roll_deg) <= thresholds_.max_tilt_deg;
 }
 
 LaserDotResult LaserDotFinder::detect(const cv::Mat& gray) {

@@ -143,7 +143,9 @@ class LaserDotFinder {
     /// A centroid further than this from the track is not the dot, px.
     double max_off_track_px = 1.5;
     /// A plane tilted more than this is not the ground (a wrong dot), deg:
-    /// a Formula Student car pitches and rolls by up to about 2 deg.
+    /// a Formula Student car pitches and rolls by up to about 2 deg. The
+    /// tilt in any direction (the magnitude of pitch and roll together: the
+    /// ground does not tilt further diagonally than along an axis).
     double max_tilt_deg = 3.0;
     /// Four dots agree on one plane when none is further from their
     /// least-squares plane than this, mm: 5 times the scatter of four good
