@@ -17,6 +17,7 @@
 #include <limits>
 #include <vector>
 
+#include "dot_constants.hpp"
 #include "gvs/dsp/ground_plane.hpp"
 #include "gvs/dsp/laser_dots.hpp"
 
@@ -27,12 +28,6 @@ namespace {
 /// three dots' scatter moves the prediction by well under a pixel, a plane
 /// tilted by max_tilt_deg through wrong dots by several.
 constexpr int kSearchSamples = 2;
-/// Samples either side searched for a dot beside the prediction, past
-/// kSearchSamples: a grain taken for one of the three, off its ground by up
-/// to what max_tilt_deg lets a plane pass (3 deg over the dots' 28 mm:
-/// about 1.5 mm), moves the prediction by up to about as much, at 10 px per
-/// mm of height on the fourth beam; the fourth dot shows there.
-constexpr int kBesideSamples = 15;
 
 }  // namespace
 
@@ -138,14 +133,9 @@ bool LaserDotFinder::fourth_beside_where_three_put_it(const LaserDotResult& out)
   for (long i = std::max(0L, centre - kSearchSamples); i <= std::min(n - 1, centre + kSearchSamples); ++i)
     where_put = std::max(where_put, response[static_cast<std::size_t>(i)]);
   // Step 2's bars, and brighter than the track where the three put the dot.
-  for (long d = kSearchSamples + 1; d <= kBesideSamples; ++d) {
-    for (const long i : {centre - d, centre + d}) {
-      if (i < 0 || i >= n) continue;
-      const auto si = static_cast<std::size_t>(i);
-      if (stands_out(fourth, si) && response[si] > where_put) return true;
-    }
-  }
-  return false;
+  return dots::shows_beside(centre, kSearchSamples, n, [&](std::size_t i) {
+    return stands_out(fourth, i) && response[i] > where_put;
+  });
 }
 
 }  // namespace gvs::dsp

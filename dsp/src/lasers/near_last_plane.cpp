@@ -23,6 +23,7 @@
 #include <array>
 #include <cmath>
 
+#include "dot_constants.hpp"
 #include "gvs/dsp/ground_plane.hpp"
 #include "gvs/dsp/laser_dots.hpp"
 
@@ -32,10 +33,6 @@ namespace {
 /// Samples either side of where the height change puts a dot: the tilt's
 /// change within a frame and the rounding.
 constexpr long kSideSamples = 2;
-/// Samples either side searched for the missing dot's brightening beside
-/// where three put it (fourth_dot.cpp's kBesideSamples: a grain taken for
-/// one of the three moves the point by up to about 15 px).
-constexpr long kBesideSamples = 15;
 constexpr std::size_t kBeams = 4;
 /// The scaled look counts only where the last plane's frame, scaled,
 /// explains the ground along every track: the brightenings' robust spread
@@ -201,14 +198,8 @@ std::size_t LaserDotFinder::plane_where_brightened(const cv::Mat& gray, double d
 
 bool LaserDotFinder::brightened_beside(std::size_t k, double along, double median, double spread) const {
   const auto n = static_cast<long>(tracks_[k].row.size());
-  const long centre = std::lround(along);
-  for (long d = kSideSamples + 1; d <= kBesideSamples; ++d) {
-    for (const long i : {centre - d, centre + d}) {
-      if (i < 0 || i >= n) continue;
-      if (newly_there(k, static_cast<std::size_t>(i), median, spread)) return true;
-    }
-  }
-  return false;
+  return dots::shows_beside(std::lround(along), kSideSamples, n,
+                            [&](std::size_t i) { return newly_there(k, i, median, spread); });
 }
 
 void LaserDotFinder::rescale_reference(double height_now_mm) {
