@@ -187,6 +187,35 @@ TEST(ExposureControl, AdaptiveLeavesTheLongestExposureWhenAWellLitStreakGivesNoS
   EXPECT_EQ(next_exposure(blurred, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us, 3000.0);
 }
 
+TEST(ExposureControl, AWellLitFrameWithoutTextureStepsDownLikeAStreakWithoutSpeed) {
+  // Low-contrast ground, 2.4 ms from 80 km/h up: streaks of 540-930 px leave
+  // no texture in the band, the frame is `no-texture` though well lit, and
+  // without this rule the plan stayed there for good (no speed, no direction).
+  const ExposureLimits lim;
+  VelocityEstimate flat = no_estimate(0, 0, Method::no_texture);
+  flat.pixel_snr = VelocityEstimate::kWellLitPixelSnr + 5.0;
+  ExposurePlan strobe;
+  strobe.pulse_count = 1;
+  strobe.exposure_us = 2400.0;
+  strobe.pulses[0] = {0.0, 2400.0};
+  EXPECT_EQ(next_exposure(flat, strobe, ExposureMode::adaptive, lim).exposure_us, 1200.0);
+  EXPECT_EQ(next_exposure(flat, continuous_us(3000.0), ExposureMode::adaptive, lim).exposure_us, 1500.0);
+  // Double pulse: from the continuous exposure to the pulses (fast guess).
+  EXPECT_EQ(next_exposure(flat, continuous_us(3000.0), ExposureMode::double_pulse, lim).pulse_count, 2u);
+  // Held: while a recent speed is tracked (one miss), on a frame that is not
+  // well lit (too little light to judge the texture by), and on a frame
+  // without any contrast (frame_check: no pixel SNR measured).
+  flat.tracking = true;
+  EXPECT_EQ(next_exposure(flat, strobe, ExposureMode::adaptive, lim).exposure_us, 2400.0);
+  EXPECT_EQ(next_exposure(flat, continuous_us(3000.0), ExposureMode::double_pulse, lim).pulse_count, 0u);
+  flat.tracking = false;
+  flat.pixel_snr = VelocityEstimate::kWellLitPixelSnr - 5.0;
+  EXPECT_EQ(next_exposure(flat, strobe, ExposureMode::adaptive, lim).exposure_us, 2400.0);
+  EXPECT_EQ(next_exposure(flat, continuous_us(3000.0), ExposureMode::double_pulse, lim).pulse_count, 0u);
+  flat.pixel_snr = 0.0;
+  EXPECT_EQ(next_exposure(flat, strobe, ExposureMode::adaptive, lim).exposure_us, 2400.0);
+}
+
 TEST(ExposureControl, AdaptiveWaitsForThePairOnADoubtfulFirstStreak) {
   // A run's first frame at 3 ms (`const` from 1 km/h on ph_asphalt_04: an
   // 8 px streak, no pair, the sign a guess) gives a direction at quality

@@ -75,6 +75,16 @@ bool moving_without_speed(const VelocityEstimate& e) {
   return !e.has_speed && (e.has_direction || e.method == Method::no_match);
 }
 
+/// A well-lit frame in which the estimator found no texture: the light was
+/// there, so the ground's texture was not, in the band the spectrum reads.
+/// On low-contrast ground a streak much longer than the frame averages it
+/// away (a photograph at half ph_asphalt_04's contrast: `no-texture` on every
+/// adaptive frame at 2.4 ms from 80 km/h up, 540-930 px streaks), and a
+/// shorter strobe brings it back; on ground without any texture no exposure
+/// helps, and stepping costs nothing. (A frame with no contrast at all fails
+/// frame_check before the spectrum and has no pixel SNR: not this.)
+bool lit_without_texture(const VelocityEstimate& e) { return e.method == Method::no_texture && e.well_lit(); }
+
 bool is_still(const VelocityEstimate& e) {
   return e.has_speed && e.speed_mps < VelocityEstimate::kStandstillMps;
 }
@@ -160,8 +170,10 @@ ExposurePlan next_adaptive(const VelocityEstimate& latest, const ExposurePlan& f
   // the plan): a run's first frame has no pair and no sign yet, and a slow
   // car's short streak there is measured by the next frame's pair at the
   // same exposure (pairs of unequal exposures do not match on every ground).
-  const bool long_unmeasured = latest.has_direction && latest.well_lit() && latest.quality >= lim.min_quality;
-  if (moving_without_speed(latest) && !latest.tracking &&
+  // A well-lit frame without texture steps down too, at any exposure.
+  const bool long_unmeasured =
+      (latest.has_direction && latest.well_lit() && latest.quality >= lim.min_quality) || lit_without_texture(latest);
+  if ((moving_without_speed(latest) || lit_without_texture(latest)) && !latest.tracking &&
       (t_frame < lim.max_exposure_us * 0.99 || long_unmeasured)) {
     // A shortened exposure that gives no speed: the streak may be still too
     // long, too short, or too faint for the estimator's stricter start-up
@@ -235,8 +247,10 @@ ExposurePlan next_double_pulse(const VelocityEstimate& latest, const ExposurePla
   // the plan): a run's first frame, or the first after double-pulse frames,
   // has no pair and no sign yet, and a slow car's short streak there is
   // measured by the next frame's pair at the same exposure.
-  const bool long_unmeasured = frame.pulse_count < 2 && latest.has_direction && !latest.has_speed &&
-                               latest.well_lit() && !latest.tracking && latest.quality >= lim.min_quality;
+  // A well-lit frame without texture there is too (lit_without_texture).
+  const bool long_unmeasured =
+      frame.pulse_count < 2 && !latest.has_speed && !latest.tracking &&
+      ((latest.has_direction && latest.well_lit() && latest.quality >= lim.min_quality) || lit_without_texture(latest));
   if (streak_too_long(latest) || long_unmeasured || (moving_without_speed(latest) && frame.pulse_count >= 2)) {
     // Direction without speed: streak or displacement too long.
     const double v_guess = px_per_us(30.0, lim);  // assume fast: 108 km/h

@@ -97,7 +97,10 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    dark_streak_texture_snr, and not VelocityEstimate::well_lit) gives
 ///    max_exposure_us; one below twice that never shortens the strobe. At
 ///    max_exposure_us a well-lit frame with a direction and no speed (a
-///    streak the estimator cannot measure) starts the sweep down.
+///    streak the estimator cannot measure) starts the sweep down. A well-lit
+///    frame without texture (Method::no_texture at the pixel SNR of a lit
+///    frame: a streak long enough to average low-contrast ground away) steps
+///    the sweep as a moving frame without a speed does, at any exposure.
 ///  - double_pulse: two pulses {0, p} and {dt, p*second_pulse_energy}, dt =
 ///    target_shift_px*s/v, p = b*s/v (>= min_pulse_us), b = max_pulse_blur_px
 ///    px of streak per pulse, or on a dark frame (texture SNR below
@@ -108,10 +111,12 @@ ExposureLimits exposure_limits_for(const CameraGeometry& camera, double fps);
 ///    frame_short_side_px) and the streak per pulse within [0.5 b, 1.5 b]; below
 ///    double_pulse_min_speed_mps a continuous max_exposure_us exposure.
 ///    Without a speed the separation shrinks 3x per frame, and restarts
-///    from a 30 m/s guess when it cannot shrink further.
-/// A standstill returns to a continuous max_exposure_us exposure; a dark,
-/// saturated or textureless frame keeps the plan, and so does a speed of
-/// quality below min_quality.
+///    from a 30 m/s guess when it cannot shrink further; at the continuous
+///    exposure a well-lit frame without texture starts from that guess too.
+/// A standstill returns to a continuous max_exposure_us exposure; a dark or
+/// saturated frame keeps the plan, and so does a textureless one that is not
+/// well lit (no light to judge the texture by) or comes while the estimator
+/// still tracks a recent speed, and a speed of quality below min_quality.
 ExposurePlan next_exposure(const VelocityEstimate& latest, const ExposurePlan& frame,
                            const ExposurePlan& current, ExposureMode mode, const ExposureLimits& limits);
 
