@@ -159,20 +159,24 @@ void GvsEstimator::learn_sensor_pattern(const FrameView& frame, std::int64_t t_m
   // texture), and from frames without a speed where the pair did not match or
   // was not tried and the frame is not still: a dark frame at speed shows
   // little but the pattern, which is what is to be learnt. Not from a first
-  // frame (nothing to compare it with), and not from a well-lit
+  // frame (nothing to compare it with), and not from an exposed
   // `short-streak` frame without a speed: sharp texture with nothing to show
   // it moved on (a standing car on ground too faint to be declared still
   // repeats it frame after frame, and the pattern learnt that ground: at
   // half ph_asphalt_04's contrast, 41 standing frames left it in the
   // pattern, and the moving frames after them, with the pattern taken out,
-  // read a spectrum too round for a direction up to 40 km/h). A dark one
-  // still teaches it: there the sensor's offsets are most of the frame, and
-  // the dark pairs of a crawl wait for the pattern learnt from such frames.
+  // read a spectrum too round for a direction up to 40 km/h). An
+  // under-exposed one (mean grey below unlearnt_max_mean_grey, as for the
+  // dark pairs) still teaches it: there the sensor's offsets are most of the
+  // frame, and the dark pairs of a crawl wait for the pattern learnt from
+  // such frames. (Not the pixel SNR: fine sharp ground raises the noise
+  // floor it is read from, and a standing car's frames would read dark.)
   if (track_.previous.valid) {
     const double dt_s = static_cast<double>(t_mid - track_.previous.t_mid_ns) * 1e-9;
     const double shift_px = e.speed_mps * dt_s / (cam_.mm_per_px * 1e-3);
     const bool moved = e.has_speed ? shift_px >= set_.pixel_pattern_min_shift_px
-                                   : single_frame_tried && !(e.method == Method::short_streak && e.well_lit());
+                                   : single_frame_tried && (e.method != Method::short_streak ||
+                                                            mean_grey < set_.unlearnt_max_mean_grey);
     if (moved) track_.pattern.learn_pixels(frame.gray, mean_grey);
   }
 }
