@@ -461,10 +461,9 @@ RunScore launch_on_half_contrast(dsp::ExposureMode mode, double seconds, const c
 TEST(LowContrastGround, AStandingCarsGroundIsNotLearntAsTheSensorsPattern) {
   // Ground too faint for a standstill to be declared (fine texture 5.9 grey
   // levels on 130): the standing frames read `short-streak`, each the same
-  // ground. Learnt as the sensor's pixel pattern, that ground came back
-  // with the pattern taken out of the moving frames after it, whose
-  // spectra then read too round for a direction: 5-15 km/h with 3 ms had a
-  // direction on 3 % of the frames of `accel` on this ground.
+  // ground. Learnt as the sensor's pixel pattern, that ground would come
+  // back with the pattern taken out of the moving frames after it, whose
+  // spectra would then read too round for a direction at 5-15 km/h.
   const RunScore s = launch_on_half_contrast(dsp::ExposureMode::fixed, 2.0, "ph_asphalt_04 x0.5, launch, 3 ms");
   const BandScore& b = s.bands[1];  // 5-15 km/h
   ASSERT_GT(b.frames, 40);
@@ -478,9 +477,9 @@ TEST(LowContrastGround, AStandingCarsGroundIsNotLearntAsTheSensorsPattern) {
 TEST(LowContrastGround, TheAdaptiveStrobeLeavesAPlanUnderWhichTheGroundShowsNoTexture) {
   // 36 m/s with the adaptive strobe on ground at half ph_asphalt_04's
   // contrast: streaks of 300-1000 px leave a well-lit frame without texture
-  // in the band (`no-texture`), and the plan used to be kept on such frames:
-  // no direction at all. Stepping down as for any moving frame without a
-  // speed, the sweep reaches strobes under which the streak shows.
+  // in the band (`no-texture`); kept, such a plan gives no direction at
+  // all. Stepping down as for any moving frame without a speed, the sweep
+  // reaches strobes under which the streak shows.
   const std::filesystem::path photo = contrast_photo(0.5);
   drivers::SimulatorConfig c;
   c.seed = 1;
