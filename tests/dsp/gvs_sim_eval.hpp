@@ -53,6 +53,7 @@ struct RunScore {
   double still_speed_max = 0.0;
   int yaw_frames = 0;
   double yaw_sq = 0.0;
+  double yaw_max_dps = 0.0;  ///< largest yaw rate error of a frame that gives one
   std::map<std::string, int> methods;
   int frames = 0;
   /// Frames whose direction is off by > 1 deg or speed by > 5 %, yet quality >= 0.5.
@@ -107,7 +108,9 @@ inline RunScore run_and_score(drivers::Simulator& sim, dsp::ExposureMode mode, d
     }
     if (e.has_yaw_rate) {
       ++score.yaw_frames;
-      score.yaw_sq += (e.yaw_rate_dps - t.yaw_rate_dps) * (e.yaw_rate_dps - t.yaw_rate_dps);
+      const double yaw_error_dps = e.yaw_rate_dps - t.yaw_rate_dps;
+      score.yaw_sq += yaw_error_dps * yaw_error_dps;
+      score.yaw_max_dps = std::max(score.yaw_max_dps, std::abs(yaw_error_dps));
     }
     if (t.speed_mps < dsp::VelocityEstimate::kStandstillMps) {
       ++score.still_frames;
@@ -168,7 +171,10 @@ inline void print_score(const char* title, const RunScore& s) {
     std::printf("  standstill %d frames, %d correct, max reported speed %.4f m/s\n", s.still_frames,
                 s.still_ok, s.still_speed_max);
   }
-  if (s.yaw_frames > 0) std::printf("  yaw rate on %d frames, rms error %.2f deg/s\n", s.yaw_frames, s.yaw_rms());
+  if (s.yaw_frames > 0) {
+    std::printf("  yaw rate on %d frames, rms error %.2f deg/s, max %.1f deg/s\n", s.yaw_frames, s.yaw_rms(),
+                s.yaw_max_dps);
+  }
   std::printf("  frames off by > 1 deg or > 5 %% with quality >= 0.5: %d\n", s.confident_bad);
   std::printf("  speeds off by > 5 %% valid on the bus: %d\n", s.valid_speed_off);
   if (s.frames > 0) std::printf("  estimate(): %.2f ms per frame (mean)\n", s.estimate_ms_total / s.frames);

@@ -283,6 +283,18 @@ TEST(PhotographedGroundGrain, TrackedReadingsAFewPercentApartGiveTheirMean) {
   EXPECT_GE(with_speed, with_speed_strict + 6);  // 451 against 441
 }
 
+TEST_P(PhotographedGround, APairGivesItsYawRateOnlyWhereItsStandardErrorIsSmall) {
+  // `crawl` at 0.1-1 m/s: 3 ms streaks of up to 30 px, along which each
+  // half's shift is a few pixels uncertain on the finer grains; their
+  // difference is the yaw rate. With a standard error of at most 3 deg/s
+  // (pair_max_yaw_rate_sigma_dps) none may be more than 4 of those off.
+  const RunScore s = fixed_exposure_run("crawl", 3.5);
+  const int pairs = s.methods.count("pair") != 0 ? s.methods.at("pair") : 0;
+  ASSERT_GT(pairs, 150);
+  EXPECT_LE(s.yaw_max_dps, 12.0);
+  EXPECT_GE(s.yaw_frames, pairs / 2);
+}
+
 TEST_P(PhotographedGround, AdaptiveStrobeAt130KmhGivesTheSpeedOfFaintStreaks) {
   // The adaptive strobe holds the streak at a few tens of pixels, where the
   // fine, even grains (ph_asphalt_04) leave a texture SNR of 1.2-2: the

@@ -46,6 +46,18 @@ void take_halves(const cv::Mat& gray, bool pattern_out, const SensorPattern& pat
   out.pattern_out = pattern_out;
 }
 
+/// The yaw rate's standard error. A correlation peak's position scatters by
+/// about pair_peak_scatter_px / (its peak-to-RMS) (the sub-pixel error of a
+/// peak falls with its significance), and the yaw rate is the difference of
+/// two such row shifts over dt and the baseline:
+///   sigma_omega = sqrt(sigma_L^2 + sigma_R^2) / (dt (c_R - c_L)).
+double yaw_rate_sigma_dps(const ImageShift& l, const ImageShift& r, double dt_s, double baseline_px,
+                          const GvsEstimatorSettings& set) {
+  const double scatter_l_px = set.pair_peak_scatter_px / l.peak_to_rms;
+  const double scatter_r_px = set.pair_peak_scatter_px / r.peak_to_rms;
+  return rad_to_deg(std::hypot(scatter_l_px, scatter_r_px) / (dt_s * baseline_px));
+}
+
 /// The image shift between the frames from the two halves' shifts.
 struct HalvesShift {
   bool found = false;  ///< at least one half matched (then `quality` says how well)
@@ -81,8 +93,8 @@ HalvesShift combine_halves(const ImageShift& l, const ImageShift& r, double dt_s
     s.d_col_px = 0.5 * (l.d_col_px + r.d_col_px);
     s.quality = std::min(1.0, 0.5 * (pair_quality(l, set.pair_min_peak_to_rms) +
                                      pair_quality(r, set.pair_min_peak_to_rms)) + 0.2);
-    s.has_yaw_rate = true;
     s.yaw_rate_dps = rad_to_deg((r.d_row_px - l.d_row_px) / (dt_s * baseline_px));
+    s.has_yaw_rate = yaw_rate_sigma_dps(l, r, dt_s, baseline_px, set) <= set.pair_max_yaw_rate_sigma_dps;
   } else {
     // Halves disagree (or one failed): trust the stronger one, at lower quality.
     const ImageShift& best = (good_l && (!good_r || l.peak_to_rms >= r.peak_to_rms)) ? l : r;

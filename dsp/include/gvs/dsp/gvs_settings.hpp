@@ -36,6 +36,16 @@ struct GvsEstimatorSettings {
   double pair_exclude_px = 3.0;      ///< fixed-pattern noise peak at lag 0 (and its spread)
   double pair_min_peak_to_rms = 7.0; ///< below: no match
   double pair_min_quality = 0.3;     ///< below: the pair is not used
+  /// A half's correlation peak lies within about this many px over its
+  /// peak-to-RMS of the true shift (fitted on 3700 pairs of `crawl` and
+  /// `stop` over the five photographs, two fainter copies and the
+  /// procedural ground: error over this model 0.5-0.9 RMS, 1.3 on the
+  /// faintest). The yaw rate's standard error follows from it.
+  double pair_peak_scatter_px = 4.0;
+  /// A pair gives its yaw rate only if that standard error is at most this:
+  /// the two halves' shifts along a 15-30 px streak on faint ground scatter
+  /// by a few pixels, a yaw rate tens of deg/s off.
+  double pair_max_yaw_rate_sigma_dps = 3.0;
   /// Dark pairs (mean grey below unlearnt_max_mean_grey): both frames'
   /// halves are taken without the sensor's pixel pattern once it is learnt
   /// from this many frames. The pattern is the same in both frames and,
