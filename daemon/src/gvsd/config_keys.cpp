@@ -55,7 +55,13 @@ const std::array kSections{
     ConfigSection{"camera",
                   "Camera geometry (replay takes the dataset's camera.json instead) and the sensor's\n"
                   "position relative to the car's reference point, vehicle axes (x forward, y left):\n"
-                  "the velocity is moved there with the yaw rate, v_ref = v_sensor - omega x r."},
+                  "the velocity is moved there with the yaw rate, v_ref = v_sensor - omega x r.\n"
+                  "Only an estimate that has a yaw rate is moved: a frame pair at a crawl (up to\n"
+                  "about 3 km/h at 60 fps, where its yaw rate's standard error is at most 3 deg/s;\n"
+                  "docs/estimator.md, \"Yaw rate\") or a standstill. Every other goes out as measured\n"
+                  "at the sensor, off the reference point's velocity by omega x r (a 9 m skidpad at\n"
+                  "12 m/s with 1 m of lever arm: 1.3 m/s sideways, 6 deg of direction): mount the head\n"
+                  "at the reference point, or move its velocity in the ECU with the car's yaw rate."},
     ConfigSection{"height",
                   "Where the camera's height comes from; each estimate's speed is scaled by\n"
                   "height / nominal_mm (the ground scale is proportional to the height).\n"
